@@ -1,0 +1,23 @@
+//! csgkit computes boolean operations (union, intersection, difference) on 3D solids,
+//! exactly: no epsilon takes part in any topological decision.
+//!
+//! # Overview
+//! Files are read by [`io`] into a [`Mesh`], an engine computes the result, and [`io`]
+//! writes it back. The engines share the mesh model and its contracts (see
+//! `ARCHITECTURE.md`):
+//! - the exact mesh-boolean engine for arbitrary closed polygon meshes;
+//! - the orthogonal engine for unions of axis-aligned boxes;
+//! - the discrete engine for multi-scale depth-list solids.
+//!
+//! # API themes
+//! - Fallible functions return a typed error naming what is wrong and where; no input makes
+//!   the library panic.
+//! - Indices are `u32` newtypes ([`VertexId`], [`FaceId`], [`OperandId`]).
+
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links)]
+
+pub mod mesh;
+
+pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
