@@ -18,6 +18,8 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+mod index;
 pub mod mesh;
 
+pub use index::{Aabb, Bvh};
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
