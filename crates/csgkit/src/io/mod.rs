@@ -34,6 +34,7 @@ mod text;
 use std::fmt;
 use std::io::Write;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 pub use error::{Location, ParseError, ReadError, WriteError};
 
@@ -149,13 +150,13 @@ fn parse(bytes: &[u8], hint: Option<Format>) -> Result<LoadedMesh, ParseError> {
 
 /// The format of `bytes`: a content signature wins over `hint`, which wins over weaker guesses.
 fn detect(bytes: &[u8], hint: Option<Format>) -> Option<Format> {
-    if bytes.starts_with(b"ply") && hint != Some(Format::Obj) {
+    if bytes.starts_with(b"ply") {
         return Some(Format::Ply);
     }
-    if off::has_header(bytes) && hint != Some(Format::Obj) {
+    if off::has_header(bytes) {
         return Some(Format::Off);
     }
-    if stl::is_binary(bytes) && hint != Some(Format::Obj) {
+    if stl::is_binary(bytes) {
         return Some(Format::Stl);
     }
     if hint.is_some() {
@@ -208,19 +209,30 @@ pub fn write_mesh(
             path: path.to_owned(),
         })?;
     let bytes = write_mesh_to_bytes(mesh, format, options.encoding)?;
-    let io_error = |source| WriteError::Io {
+    write_atomic(path, &bytes).map_err(|source| WriteError::Io {
         path: path.to_owned(),
         source,
-    };
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    let mut temp = tempfile::NamedTempFile::new_in(dir).map_err(io_error)?;
-    temp.write_all(&bytes).map_err(io_error)?;
-    temp.as_file().sync_all().map_err(io_error)?;
-    temp.persist(path).map_err(|e| io_error(e.error))?;
-    Ok(())
+    })
+}
+
+/// Writes `bytes` to a new temporary file beside `path`, then renames it over `path`; on
+/// failure the temporary file is removed and `path` is untouched.
+fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let temp = path.with_file_name(format!(".{name}.{}-{unique}.tmp", std::process::id()));
+    let result = std::fs::File::create_new(&temp)
+        .and_then(|mut file| {
+            file.write_all(bytes)?;
+            file.sync_all()
+        })
+        .and_then(|()| std::fs::rename(&temp, path));
+    if result.is_err() {
+        // The temporary file may never have been created; the first error is the one to report.
+        let _ = std::fs::remove_file(&temp);
+    }
+    result
 }
 
 #[cfg(test)]
@@ -242,7 +254,7 @@ mod tests {
         assert_eq!(detect(b"\x00\x01garbage", None), None);
         let mut binary = b"solid but binary".to_vec();
         binary.resize(84, 0);
-        assert_eq!(detect(&binary, Some(Format::Obj)), Some(Format::Obj));
+        assert_eq!(detect(&binary, Some(Format::Obj)), Some(Format::Stl));
         assert_eq!(detect(&binary, Some(Format::Off)), Some(Format::Stl));
     }
 

@@ -86,7 +86,8 @@ impl Reader {
         match keyword {
             b"v" => self.vertex(tokens, at),
             b"vt" => {
-                let [u, v] = floats::<2>(&mut tokens, at, "vt needs 2 coordinates")?;
+                let [u] = floats::<1>(&mut tokens, at, "vt needs a coordinate")?;
+                let v = tokens.next().map_or(Ok(0.0), |t| parse_f32(t, at))?;
                 self.uvs.push([u, v]);
                 Ok(())
             }

@@ -405,9 +405,8 @@ fn read_body<S: Source>(header: &Header, mut src: S) -> Result<(Mesh, usize), Pa
             .find(|e| e.name == name)
             .map_or(0, |e| e.count)
     };
-    let room = header.elements.iter().map(|e| e.count).sum::<usize>();
-    let mut builder =
-        MeshBuilder::with_capacity(count("vertex").min(room), count("face").min(room));
+    // `read` checked every count against the body's size, so these reservations are bounded.
+    let mut builder = MeshBuilder::with_capacity(count("vertex"), count("face"));
     let mut materials = Vec::new();
     let (mut seen_vertex, mut seen_face) = (false, false);
     for element in &header.elements {
@@ -420,6 +419,8 @@ fn read_body<S: Source>(header: &Header, mut src: S) -> Result<(Mesh, usize), Pa
                 seen_face = true;
                 read_faces(&mut src, element, &mut builder, &mut materials)?;
             }
+            // An element without properties takes no byte, whatever its count.
+            _ if element.properties.is_empty() => {}
             _ => {
                 for _ in 0..element.count {
                     for property in &element.properties {
