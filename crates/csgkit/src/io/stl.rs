@@ -182,9 +182,8 @@ fn read_ascii(data: &[u8]) -> Result<LoadedMesh, ParseError> {
     })
 }
 
-/// The unit normal of triangle `t` (zero for a degenerate triangle).
-fn normal(mesh: &Mesh, t: [u32; 3]) -> [f64; 3] {
-    let [a, b, c] = t.map(|v| mesh.positions()[v as usize]);
+/// The unit normal of a triangle (zero for a degenerate triangle).
+fn normal([a, b, c]: [[f64; 3]; 3]) -> [f64; 3] {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     let n = [
@@ -222,13 +221,17 @@ fn write_binary(mesh: &Mesh, out: &mut Vec<u8>) -> Result<(), WriteError> {
     header[..title.len()].copy_from_slice(title);
     out.extend_from_slice(&header);
     out.extend_from_slice(&count.to_le_bytes());
+    out.reserve(FACET * count as usize);
     for (_, t) in mesh.fan_triangles() {
-        let n = normal(mesh, t);
         let points = t.map(|v| mesh.positions()[v as usize]);
-        for c in std::iter::once(&n).chain(&points).flatten() {
-            out.extend_from_slice(&(*c as f32).to_le_bytes());
+        let mut facet = [0u8; FACET];
+        for (k, p) in std::iter::once(normal(points)).chain(points).enumerate() {
+            for (c, value) in p.into_iter().enumerate() {
+                let at = 12 * k + 4 * c;
+                facet[at..at + 4].copy_from_slice(&(value as f32).to_le_bytes());
+            }
         }
-        out.extend_from_slice(&[0, 0]);
+        out.extend_from_slice(&facet);
     }
     Ok(())
 }
@@ -245,7 +248,7 @@ fn write_ascii(mesh: &Mesh, out: &mut Vec<u8>) {
     out.extend_from_slice(b"solid csgkit\n");
     for (_, t) in mesh.fan_triangles() {
         out.extend_from_slice(b"facet normal");
-        xyz(out, normal(mesh, t));
+        xyz(out, normal(t.map(|v| mesh.positions()[v as usize])));
         out.extend_from_slice(b"outer loop\n");
         for v in t {
             out.extend_from_slice(b"vertex");
