@@ -91,6 +91,7 @@ pub enum Encoding {
 
 /// A mesh read from a file, with what was learned about the file.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct LoadedMesh {
     /// The mesh.
     pub mesh: Mesh,
@@ -163,7 +164,7 @@ fn detect(bytes: &[u8], hint: Option<Format>) -> Option<Format> {
         return hint;
     }
     let start = text::trim(&bytes[..bytes.len().min(512)]);
-    if start.starts_with(b"solid") {
+    if stl::starts_with_solid(start) {
         return Some(Format::Stl);
     }
     let first = text::Tokens::new(start).next()?;
@@ -263,6 +264,28 @@ mod tests {
         let err = read_mesh_from_bytes(b"\x00\x01", None).unwrap_err();
         assert!(matches!(err.parse_error(), Some(ParseError::UnknownFormat)));
         assert!(err.to_string().starts_with("<memory>: unknown format"));
+    }
+
+    #[test]
+    fn zero_byte_files_name_the_path_and_the_format() {
+        let dir = tempfile::tempdir().unwrap();
+        for (name, format) in [
+            ("e.stl", Format::Stl),
+            ("e.ply", Format::Ply),
+            ("e.off", Format::Off),
+        ] {
+            let path = dir.path().join(name);
+            std::fs::write(&path, b"").unwrap();
+            let err = read_mesh(&path).unwrap_err();
+            assert_eq!(err.parse_error(), Some(&ParseError::Empty { format }));
+            let message = format!("{}: empty file: {format} needs a header", path.display());
+            assert_eq!(err.to_string(), message);
+        }
+        let path = dir.path().join("e.obj");
+        std::fs::write(&path, b"").unwrap();
+        assert!(read_mesh(&path).unwrap().mesh.is_empty());
+        let missing = read_mesh(dir.path().join("missing.obj")).unwrap_err();
+        assert!(matches!(missing, ReadError::Io { .. }));
     }
 
     #[test]

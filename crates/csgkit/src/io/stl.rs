@@ -44,6 +44,12 @@ fn announced_size(data: &[u8]) -> Option<usize> {
         .checked_add(HEADER)
 }
 
+/// True when `text` begins with `solid` in any case: the start of an ASCII STL.
+pub(crate) fn starts_with_solid(text: &[u8]) -> bool {
+    text.get(..5)
+        .is_some_and(|word| word.eq_ignore_ascii_case(b"solid"))
+}
+
 /// Reads an STL file held in memory, deciding ASCII or binary as the module docs say.
 pub(crate) fn read(data: &[u8]) -> Result<LoadedMesh, ParseError> {
     if data.is_empty() {
@@ -58,7 +64,7 @@ pub(crate) fn read(data: &[u8]) -> Result<LoadedMesh, ParseError> {
         .iter()
         .position(|b| !b.is_ascii_whitespace())
         .unwrap_or(0)..];
-    if start.starts_with(b"solid") {
+    if starts_with_solid(start) {
         let binary_fits =
             announced_size(data).is_some_and(|size| size > HEADER && size <= data.len());
         return match read_ascii(data) {
@@ -136,7 +142,8 @@ fn read_ascii(data: &[u8]) -> Result<LoadedMesh, ParseError> {
     for (number, line) in Lines::new(data) {
         let at = Location::Line(number);
         let mut tokens = Tokens::new(line);
-        match tokens.next() {
+        let mut lower = [0u8; 8];
+        match tokens.next().map(|keyword| lowercase(keyword, &mut lower)) {
             None | Some(b"solid" | b"endsolid" | b"facet" | b"outer" | b"endfacet") => {}
             Some(b"vertex") => {
                 let missing = || malformed(Format::Stl, at, "vertex needs 3 coordinates");
@@ -180,6 +187,19 @@ fn read_ascii(data: &[u8]) -> Result<LoadedMesh, ParseError> {
         encoding: Encoding::Ascii,
         raw_vertex_count: raw,
     })
+}
+
+/// `keyword` in lower case (keywords are at most 8 bytes long; longer tokens are returned as
+/// they are), since some exporters write `FACET NORMAL`.
+fn lowercase<'a>(keyword: &'a [u8], buffer: &'a mut [u8; 8]) -> &'a [u8] {
+    match buffer.get_mut(..keyword.len()) {
+        Some(lower) => {
+            lower.copy_from_slice(keyword);
+            lower.make_ascii_lowercase();
+            lower
+        }
+        None => keyword,
+    }
 }
 
 /// The unit normal of a triangle (zero for a degenerate triangle).
@@ -300,6 +320,9 @@ mod tests {
         assert_eq!(loaded.encoding, Encoding::Ascii);
         assert_eq!(loaded.mesh.positions(), square().positions());
         assert_eq!(loaded.mesh.face_count(), 2);
+        let upper = "SOLID x\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\n\
+            VERTEX 0 1 0\nENDLOOP\nENDFACET\nENDSOLID x\n";
+        assert_eq!(read(upper.as_bytes()).unwrap().raw_vertex_count, 3);
     }
 
     #[test]
