@@ -1,5 +1,7 @@
 //! No reader panics: truncated, corrupted and random bytes give `Ok` or `Err`, never a panic.
 
+use std::sync::OnceLock;
+
 use csgkit::{Format, read_mesh_from_bytes};
 use proptest::prelude::*;
 
@@ -13,15 +15,21 @@ const FORMATS: [Option<Format>; 5] = [
     Some(Format::Off),
 ];
 
+const PLY_HEADER: &str = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+    element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
 /// Small valid files of every kind, the seeds that corruption starts from.
 fn seeds() -> Vec<Vec<u8>> {
     let mut seeds = vec![
-        b"v 0 0 0\nv 1 0 0\nv 0 1 0 1 0 0\nvt 0 0\nvn 0 0 1\ng a\nusemtl m\nf 1/1/1 2//1 -1/1\n".to_vec(),
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0 1 0 0\nvt 0 0\nvn 0 0 1\ng a\nusemtl m\nf 1/1/1 2//1 -1/1\n"
+            .to_vec(),
         b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 255 0 0\n".to_vec(),
-        b"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n".to_vec(),
-        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n".to_vec(),
+        b"solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
+          endloop\nendfacet\nendsolid\n"
+            .to_vec(),
+        format!("ply\nformat ascii 1.0\n{PLY_HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").into_bytes(),
     ];
-    let mut binary_ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
+    let mut binary_ply = format!("ply\nformat binary_little_endian 1.0\n{PLY_HEADER}").into_bytes();
     for c in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
         binary_ply.extend_from_slice(&c.to_le_bytes());
     }
@@ -43,6 +51,24 @@ fn seeds() -> Vec<Vec<u8>> {
     seeds
 }
 
+/// The real files in the shared data folder smaller than 30 kB (none if it is absent).
+fn small_real_files() -> &'static [Vec<u8>] {
+    static FILES: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
+    FILES.get_or_init(|| {
+        let Some(data) = shared_data() else {
+            return Vec::new();
+        };
+        let entries = std::fs::read_dir(data.join("meshes")).expect("meshes folder");
+        let mut paths: Vec<_> = entries.map(|e| e.expect("folder entry").path()).collect();
+        paths.sort();
+        paths
+            .iter()
+            .map(|path| std::fs::read(path).expect("readable"))
+            .filter(|bytes| bytes.len() < 30_000)
+            .collect()
+    })
+}
+
 /// Runs every reader on `bytes`; a panic fails the property.
 fn read_all(bytes: &[u8]) {
     for hint in FORMATS {
@@ -50,19 +76,13 @@ fn read_all(bytes: &[u8]) {
     }
 }
 
-/// The real files in the shared data folder smaller than 30 kB (none if it is absent).
-fn small_real_files() -> Vec<Vec<u8>> {
-    let Some(data) = shared_data() else {
-        return Vec::new();
-    };
-    let entries = std::fs::read_dir(data.join("meshes")).expect("meshes folder");
-    let mut files: Vec<_> = entries.map(|e| e.expect("folder entry").path()).collect();
-    files.sort();
-    files
-        .iter()
-        .map(|path| std::fs::read(path).expect("readable"))
-        .filter(|bytes| bytes.len() < 30_000)
-        .collect()
+/// `bytes` with the byte at each `(position modulo length, value)` of `flips` replaced.
+fn corrupt(mut bytes: Vec<u8>, flips: &[(usize, u8)]) -> Vec<u8> {
+    let len = bytes.len();
+    for &(at, byte) in flips {
+        bytes[at % len] = byte;
+    }
+    bytes
 }
 
 #[test]
@@ -82,17 +102,16 @@ fn every_truncation_of_every_seed() {
     }
 }
 
+fn flips(max: usize) -> impl Strategy<Value = Vec<(usize, u8)>> {
+    prop::collection::vec((any::<usize>(), any::<u8>()), 1..max)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 4000, ..ProptestConfig::default() })]
 
     #[test]
-    fn corrupted_seeds(seed in 0usize..6, flips in prop::collection::vec((any::<usize>(), any::<u8>()), 1..8)) {
-        let mut bytes = seeds()[seed].clone();
-        for (at, byte) in flips {
-            let len = bytes.len();
-            bytes[at % len] = byte;
-        }
-        read_all(&bytes);
+    fn corrupted_seeds(seed in 0usize..6, flips in flips(8)) {
+        read_all(&corrupt(seeds()[seed].clone(), &flips));
     }
 
     #[test]
@@ -102,7 +121,14 @@ proptest! {
 
     #[test]
     fn random_text_after_a_header(
-        header in prop::sample::select(vec!["ply\nformat ascii 1.0\n", "OFF\n", "solid\n", "v 1 2 3\n", "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty list uint double x\nend_header\n"]),
+        header in prop::sample::select(vec![
+            "ply\nformat ascii 1.0\n",
+            "OFF\n",
+            "solid\n",
+            "v 1 2 3\n",
+            "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty list uint double x\n\
+             end_header\n",
+        ]),
         body in "[ -~\n]{0,200}",
     ) {
         read_all(format!("{header}{body}").as_bytes());
@@ -113,17 +139,12 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
 
     #[test]
-    fn corrupted_real_files(pick in any::<usize>(), flips in prop::collection::vec((any::<usize>(), any::<u8>()), 1..16), cut in any::<usize>()) {
+    fn corrupted_real_files(pick in any::<usize>(), flips in flips(16), cut in any::<usize>()) {
         let files = small_real_files();
         if !files.is_empty() {
-            let mut bytes = files[pick % files.len()].clone();
-            for (at, byte) in flips {
-                let len = bytes.len();
-                bytes[at % len] = byte;
-            }
-            let len = bytes.len();
+            let bytes = corrupt(files[pick % files.len()].clone(), &flips);
             read_all(&bytes);
-            read_all(&bytes[..cut % len]);
+            read_all(&bytes[..cut % bytes.len()]);
         }
     }
 }

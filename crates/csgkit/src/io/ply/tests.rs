@@ -130,8 +130,14 @@ fn errors_are_exact() {
         Err(ParseError::Unsupported { .. })
     ));
     assert!(matches!(
-        read(b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n"),
-        Err(ParseError::CountTooLarge { what: "PLY element", .. })
+        read(
+            b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n\
+              property float x\nend_header\n"
+        ),
+        Err(ParseError::CountTooLarge {
+            what: "PLY element",
+            ..
+        })
     ));
 }
 
