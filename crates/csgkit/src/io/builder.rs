@@ -38,11 +38,13 @@ impl Names {
 }
 
 /// Pushes `value` on a lazily created buffer, first filling `len` defaults if it is absent.
+#[inline]
 fn put<T: Copy>(buffer: &mut Option<Vec<T>>, len: usize, value: T, default: T) {
     buffer.get_or_insert_with(|| vec![default; len]).push(value);
 }
 
 /// Pushes `value` if given, or `default` if the buffer exists; leaves an absent buffer absent.
+#[inline]
 fn put_opt<T: Copy>(buffer: &mut Option<Vec<T>>, len: usize, value: Option<T>, default: T) {
     match (value, buffer.as_mut()) {
         (Some(value), _) => put(buffer, len, value, default),
@@ -52,6 +54,7 @@ fn put_opt<T: Copy>(buffer: &mut Option<Vec<T>>, len: usize, value: Option<T>, d
 }
 
 /// Pushes the id of `name` (or of the default name) on a lazily created face id buffer.
+#[inline]
 fn name_id(names: &mut Names, buffer: &mut Option<Vec<u32>>, faces: usize, name: Option<&str>) {
     let needs_default = match name {
         Some(_) => buffer.is_none() && faces > 0,
@@ -91,16 +94,19 @@ impl MeshBuilder {
     }
 
     /// Number of vertices so far.
+    #[inline]
     pub(crate) fn vertex_count(&self) -> usize {
         self.parts.positions.len()
     }
 
     /// Number of faces so far.
+    #[inline]
     pub(crate) fn face_count(&self) -> usize {
         self.starts.len() - 1
     }
 
     /// Adds a vertex with an optional colour.
+    #[inline]
     pub(crate) fn push_vertex(&mut self, p: [f64; 3], color: Option<Rgba>) {
         let len = self.parts.positions.len();
         put_opt(&mut self.parts.vertex_colors, len, color, WHITE);
@@ -108,6 +114,7 @@ impl MeshBuilder {
     }
 
     /// Adds one corner of the face under construction; `uv` and `normal` are optional.
+    #[inline]
     pub(crate) fn push_corner(
         &mut self,
         vertex: u32,
@@ -120,7 +127,18 @@ impl MeshBuilder {
         self.parts.corners.push(vertex);
     }
 
+    /// Adds corners without UV or normal to the face under construction.
+    #[inline]
+    pub(crate) fn push_corners(&mut self, vertices: impl Iterator<Item = u32>) {
+        if self.parts.corner_uvs.is_none() && self.parts.corner_normals.is_none() {
+            self.parts.corners.extend(vertices);
+        } else {
+            vertices.for_each(|v| self.push_corner(v, None, None));
+        }
+    }
+
     /// Corners pushed since the last [`MeshBuilder::end_face`].
+    #[inline]
     pub(crate) fn open_corners(&self) -> usize {
         self.parts.corners.len() - self.starts[self.starts.len() - 1] as usize
     }
@@ -129,6 +147,7 @@ impl MeshBuilder {
     ///
     /// # Errors
     /// [`ParseError::CountTooLarge`] past `u32::MAX` corners.
+    #[inline]
     pub(crate) fn end_face(&mut self, attributes: FaceAttributes<'_>) -> Result<(), ParseError> {
         let corners = self.parts.corners.len();
         let end = u32::try_from(corners).map_err(|_| ParseError::CountTooLarge {

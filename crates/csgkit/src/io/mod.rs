@@ -14,10 +14,12 @@
 //! their first statement is an OBJ keyword.
 //!
 //! # Why hand-written readers
-//! Each format module says which crate it was compared with. In short: `tobj` loses per-face
-//! groups and materials, `stl_io` welds in f32 and reads ASCII facets through a slower
-//! tokenizer, `ply-rs` builds a hash map per element (an order of magnitude slower than the
-//! 200 MB/s target). The formats are small, and one scanner shares its error reporting.
+//! Each format module says which crate it was compared with. In short: `tobj` splits the file
+//! into models with one material each and stores f32 by default, `stl_io` returns f32
+//! positions (csgkit keeps the exact f64 values of ASCII files), and `ply-rs` builds a hash map
+//! of named properties for every vertex and face. These crates were judged from their
+//! documented data model, not benchmarked. The formats are small, and one scanner shares its
+//! error reporting.
 //!
 //! # Errors
 //! Every reader error names the file (added here), the line or byte offset, and the vertex or

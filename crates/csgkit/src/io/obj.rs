@@ -6,9 +6,10 @@
 //! material, `mtllib` names are kept. Lines continue after a trailing `\`; comments, `s`, `l`,
 //! `p` and unknown statements are skipped.
 //!
-//! Hand-written rather than `tobj`: `tobj` splits the file into models (losing the per-face
-//! group and material ids csgkit keeps), re-indexes vertices per model, and drops vertex
-//! colours without its feature flags; a byte-slice scanner is also faster.
+//! Hand-written rather than `tobj`: `tobj` returns one model per `o`/`g`/`usemtl` run, each
+//! with its own re-indexed vertices and a single material, so the per-face group and material
+//! ids over one shared vertex set that csgkit keeps would have to be rebuilt, and it stores
+//! f32 unless its `use_f64` feature is on; a byte-slice scanner is also faster.
 //!
 //! The writer prints coordinates in shortest round-trip form (`ryu`), so reading back gives
 //! bit-identical positions, and groups faces by material under `usemtl` (a stable sort, so a
