@@ -110,3 +110,20 @@ fn every_format_round_trips_the_repo_cube() {
         }
     }
 }
+
+#[test]
+fn content_wins_where_the_extension_lies() {
+    let Some(data) = shared_data() else { return };
+    let dir = tempfile::tempdir().expect("temporary folder");
+    for (source, disguise, format) in [
+        ("plate_holes.stl", "plate.obj", Format::Stl),
+        ("two-boxes-bad-self-union.ply", "boxes.off", Format::Ply),
+        ("ballA.off", "ball.stl", Format::Off),
+        ("joint.obj", "joint.ply", Format::Obj),
+    ] {
+        let path = dir.path().join(disguise);
+        std::fs::copy(data.join("meshes").join(source), &path).expect("copies");
+        let loaded = read_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(loaded.format, format, "{source} as {disguise}");
+    }
+}

@@ -6,12 +6,12 @@
 //! complete, so an output file is written whole or not at all.
 //!
 //! # Format detection
-//! The extension chooses the format, but content that unambiguously says otherwise wins:
-//! a `ply` magic line, an `OFF` header, or a binary STL whose size is exactly
-//! `84 + 50 * triangle count`. Within STL, binary versus ASCII is decided by that size check
-//! first, because binary files whose 80-byte header begins with `solid` are common.
-//! Files with an unknown extension are recognised by the same content checks, then as OBJ if
-//! their first statement is an OBJ keyword.
+//! The extension chooses the format, but content that unambiguously says otherwise wins, in
+//! this order: a `ply` magic line, an `OFF` header, a binary STL whose size is exactly
+//! `84 + 50 * triangle count`, text starting with `solid` (ASCII STL), and text whose first
+//! statement after comments is an OBJ keyword. Within STL, binary versus ASCII is decided by
+//! the size check first, because binary files whose 80-byte header begins with `solid` are
+//! common. A file of comments only is OBJ when the extension says nothing.
 //!
 //! # Why hand-written readers
 //! Each format module says which crate it was compared with. In short: `tobj` splits the file
@@ -151,7 +151,8 @@ fn parse(bytes: &[u8], hint: Option<Format>) -> Result<LoadedMesh, ParseError> {
     }
 }
 
-/// The format of `bytes`: a content signature wins over `hint`, which wins over weaker guesses.
+/// The format of `bytes`: a content signature wins over `hint`, which wins over a file made
+/// only of comments (OBJ when there is no hint).
 fn detect(bytes: &[u8], hint: Option<Format>) -> Option<Format> {
     if bytes.starts_with(b"ply") {
         return Some(Format::Ply);
@@ -162,16 +163,21 @@ fn detect(bytes: &[u8], hint: Option<Format>) -> Option<Format> {
     if stl::is_binary(bytes) {
         return Some(Format::Stl);
     }
-    if hint.is_some() {
-        return hint;
-    }
-    let start = text::trim(&bytes[..bytes.len().min(512)]);
+    let start = text::trim(&bytes[..bytes.len().min(4096)]);
     if stl::starts_with_solid(start) {
         return Some(Format::Stl);
     }
-    let first = text::Tokens::new(start).next()?;
-    let obj_keywords: [&[u8]; 8] = [b"v", b"vt", b"vn", b"f", b"o", b"g", b"mtllib", b"usemtl"];
-    (first.starts_with(b"#") || obj_keywords.contains(&first)).then_some(Format::Obj)
+    let first = text::Lines::new(start)
+        .filter_map(|(_, line)| text::Tokens::new(line).next())
+        .find(|token| !token.starts_with(b"#"));
+    let obj_keywords: [&[u8]; 9] = [
+        b"v", b"vt", b"vn", b"f", b"o", b"g", b"s", b"mtllib", b"usemtl",
+    ];
+    match first {
+        Some(token) if obj_keywords.contains(&token) => Some(Format::Obj),
+        None if hint.is_none() && !start.is_empty() => Some(Format::Obj),
+        _ => hint,
+    }
 }
 
 /// Renders `mesh` in `format`.
@@ -254,6 +260,16 @@ mod tests {
         );
         assert_eq!(detect(b"solid x\nendsolid\n", None), Some(Format::Stl));
         assert_eq!(detect(b"v 1 2 3\n", None), Some(Format::Obj));
+        assert_eq!(
+            detect(b"# c\n\nv 1 2 3\n", Some(Format::Stl)),
+            Some(Format::Obj)
+        );
+        assert_eq!(detect(b"# only a comment\n", None), Some(Format::Obj));
+        assert_eq!(
+            detect(b"# only a comment\n", Some(Format::Off)),
+            Some(Format::Off)
+        );
+        assert_eq!(detect(b"", Some(Format::Ply)), Some(Format::Ply));
         assert_eq!(detect(b"\x00\x01garbage", None), None);
         let mut binary = b"solid but binary".to_vec();
         binary.resize(84, 0);
