@@ -13,7 +13,10 @@
 //!
 //! The writer prints coordinates in shortest round-trip form (`ryu`), so reading back gives
 //! bit-identical positions, and groups faces by material under `usemtl` (a stable sort, so a
-//! file already grouped keeps its face order).
+//! file already grouped keeps its face order). It writes one `vt`/`vn` per corner, vertex
+//! colours as `r g b` floats (alpha is dropped), `g` lines where the group changes, and no
+//! face colours or provenance, which OBJ cannot hold. Name tables are rebuilt in order of first
+//! use on reading, so their order may change in a round trip.
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};

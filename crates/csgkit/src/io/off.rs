@@ -8,6 +8,8 @@
 //! not supported. Records are read one per line, as every OFF writer in use emits them.
 //!
 //! No crate reads OFF with colours and error locations, so this reader is hand-written.
+//! The writer emits `OFF` (`COFF` with vertex colours) and integer RGBA face colours; materials,
+//! groups, UVs, normals and provenance are not written.
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};

@@ -15,7 +15,9 @@
 //! properties, an allocation per vertex and face, and has no error locations.
 //!
 //! The writer emits binary little-endian by default (ASCII on request), `double` coordinates,
-//! `uchar` colours, and a `list uchar int vertex_indices` (`uint` counts past 255 corners).
+//! `uchar` colours, a `list uchar int vertex_indices` (`uint` counts past 255 corners) and an
+//! `int material_index`. PLY has no material names: a round trip renames them `material_N`.
+//! Groups, UVs, normals and provenance are not written.
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};

@@ -17,6 +17,7 @@
 //! The writer fan-triangulates polygons from their first corner. That is right for convex
 //! faces only; a non-convex polygon needs a proper triangulation first (not done here).
 //! Binary output rounds coordinates to f32; ASCII output prints shortest round-trip f64.
+//! Only geometry is written: STL holds no attribute csgkit keeps.
 
 use rustc_hash::FxHashMap;
 
