@@ -302,6 +302,13 @@ mod tests {
         let path = dir.path().join("e.obj");
         std::fs::write(&path, b"").unwrap();
         assert!(read_mesh(&path).unwrap().mesh.is_empty());
+        let path = dir.path().join("bad.obj");
+        std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").unwrap();
+        let message = "line 4: face 0 refers to vertex 4, but 3 are defined";
+        assert_eq!(
+            read_mesh(&path).unwrap_err().to_string(),
+            format!("{}: {message}", path.display())
+        );
         let missing = read_mesh(dir.path().join("missing.obj")).unwrap_err();
         assert!(matches!(missing, ReadError::Io { .. }));
     }

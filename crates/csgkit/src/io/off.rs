@@ -367,6 +367,14 @@ mod tests {
             read_str("OFF\n3 1 0\n0 0 0\n"),
             Err(ParseError::Malformed { .. })
         ));
+        assert!(matches!(
+            read_str("OFF\n1000 1 0\n0 0 0\n"),
+            Err(ParseError::CountTooLarge {
+                what: "vertex",
+                count: 1000,
+                ..
+            })
+        ));
     }
 
     #[test]
