@@ -5,6 +5,17 @@
 //! temporary file in the destination folder that is renamed over the destination when
 //! complete, so an output file is written whole or not at all.
 //!
+//! ```
+//! use csgkit::{Encoding, Format, Mesh, read_mesh_from_bytes, write_mesh_to_bytes};
+//!
+//! let triangle = Mesh::from_triangles(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.1, 0.0]], &[[0, 1, 2]])?;
+//! let bytes = write_mesh_to_bytes(&triangle, Format::Obj, Encoding::Ascii)?;
+//! let loaded = read_mesh_from_bytes(&bytes, None)?; // recognised by its content
+//! assert_eq!(loaded.format, Format::Obj);
+//! assert_eq!(loaded.mesh.positions(), triangle.positions()); // bit-identical
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! # Format detection
 //! The extension chooses the format, but content that unambiguously says otherwise wins, in
 //! this order: a `ply` magic line, an `OFF` header, a binary STL whose size is exactly
