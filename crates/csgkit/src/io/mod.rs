@@ -8,7 +8,8 @@
 //! ```
 //! use csgkit::{Encoding, Format, Mesh, read_mesh_from_bytes, write_mesh_to_bytes};
 //!
-//! let triangle = Mesh::from_triangles(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.1, 0.0]], &[[0, 1, 2]])?;
+//! let positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.1, 0.0]];
+//! let triangle = Mesh::from_triangles(positions, &[[0, 1, 2]])?;
 //! let bytes = write_mesh_to_bytes(&triangle, Format::Obj, Encoding::Ascii)?;
 //! let loaded = read_mesh_from_bytes(&bytes, None)?; // recognised by its content
 //! assert_eq!(loaded.format, Format::Obj);
