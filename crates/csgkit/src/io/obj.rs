@@ -20,7 +20,9 @@
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};
-use super::text::{Lines, Tokens, channel, check_finite, next_f64, parse_f32, parse_i64};
+use super::text::{
+    Lines, Tokens, channel, check_finite, next_f64, parse_f32, parse_f64, parse_i64,
+};
 use super::{Encoding, Format, LoadedMesh};
 use crate::mesh::{FaceId, Mesh, Rgba};
 
@@ -139,7 +141,7 @@ impl Reader {
         let mut extra = [0.0f64; 3];
         let mut count = 0;
         for token in tokens {
-            let value = super::text::parse_f64(token, at)?;
+            let value = parse_f64(token, at)?;
             if count < 3 {
                 extra[count] = value;
             }
@@ -160,18 +162,8 @@ impl Reader {
             let mut parts = token.split(|&b| b == b'/');
             let v = parts.next().unwrap_or_default();
             let vertex = resolve(v, self.builder.vertex_count(), "vertex", face, at)?;
-            let uv = match parts.next().filter(|t| !t.is_empty()) {
-                Some(t) => Some(
-                    self.uvs[resolve(t, self.uvs.len(), "texture coordinate", face, at)? as usize],
-                ),
-                None => None,
-            };
-            let normal = match parts.next().filter(|t| !t.is_empty()) {
-                Some(t) => {
-                    Some(self.normals[resolve(t, self.normals.len(), "normal", face, at)? as usize])
-                }
-                None => None,
-            };
+            let uv = lookup(parts.next(), &self.uvs, "texture coordinate", face, at)?;
+            let normal = lookup(parts.next(), &self.normals, "normal", face, at)?;
             self.builder.push_corner(vertex, uv, normal);
         }
         let corners = self.builder.open_corners();
@@ -208,6 +200,22 @@ fn name(rest: &[u8]) -> String {
         "default".to_owned()
     } else {
         String::from_utf8_lossy(rest).into_owned()
+    }
+}
+
+/// The value an optional `vt` or `vn` index of a corner refers to.
+fn lookup<T: Copy>(
+    token: Option<&[u8]>,
+    values: &[T],
+    what: &'static str,
+    face: usize,
+    at: Location,
+) -> Result<Option<T>, ParseError> {
+    match token.filter(|t| !t.is_empty()) {
+        Some(t) => Ok(Some(
+            values[resolve(t, values.len(), what, face, at)? as usize],
+        )),
+        None => Ok(None),
     }
 }
 
