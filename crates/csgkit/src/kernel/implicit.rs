@@ -55,10 +55,12 @@ pub struct Tpi {
     w_sign: Sign,
 }
 
+#[inline]
 fn sub3<T: Arith>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [a[0].sub(&b[0]), a[1].sub(&b[1]), a[2].sub(&b[2])]
 }
 
+#[inline]
 fn cross<T: Arith>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [
         a[1].mul(&b[2]).sub(&a[2].mul(&b[1])),
@@ -67,27 +69,33 @@ fn cross<T: Arith>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     ]
 }
 
+#[inline]
 fn dot<T: Arith>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0].mul(&b[0]).add(&a[1].mul(&b[1])).add(&a[2].mul(&b[2]))
 }
 
+#[inline]
 fn scale<T: Arith>(a: &[T; 3], k: &T) -> [T; 3] {
     [a[0].mul(k), a[1].mul(k), a[2].mul(k)]
 }
 
+#[inline]
 fn add3<T: Arith>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
     [a[0].add(&b[0]), a[1].add(&b[1]), a[2].add(&b[2])]
 }
 
 /// Normal `(b - a) × (c - a)` of a triangle.
+#[inline]
 pub(crate) fn normal<T: Arith>(a: &[T; 3], b: &[T; 3], c: &[T; 3]) -> [T; 3] {
     cross(&sub3(b, a), &sub3(c, a))
 }
 
+#[inline]
 pub(crate) fn conv3<T>(p: &Point3, conv: &dyn Fn(f64) -> T) -> [T; 3] {
     [conv(p[0]), conv(p[1]), conv(p[2])]
 }
 
+#[inline]
 fn lpi_hom<T: Arith>(d: &[Point3; 5], conv: &dyn Fn(f64) -> T) -> [T; 4] {
     let [p, q, r, s, t] = d.map(|x| conv3(&x, conv));
     let n = normal(&r, &s, &t);
@@ -99,6 +107,7 @@ fn lpi_hom<T: Arith>(d: &[Point3; 5], conv: &dyn Fn(f64) -> T) -> [T; 4] {
     [x, y, z, w]
 }
 
+#[inline]
 fn tpi_hom<T: Arith>(planes: &[[Point3; 3]; 3], conv: &dyn Fn(f64) -> T) -> [T; 4] {
     let nd = planes.map(|pl| {
         let [a, b, c] = pl.map(|x| conv3(&x, conv));

@@ -32,7 +32,7 @@ pub(crate) struct Interval {
 }
 
 /// The next f64 above `x` (towards `+inf`); `+inf` and NaN map to themselves.
-#[inline]
+#[inline(always)]
 pub(crate) fn next_up(x: f64) -> f64 {
     if x.is_nan() || x == f64::INFINITY {
         return x;
@@ -50,7 +50,7 @@ pub(crate) fn next_up(x: f64) -> f64 {
 }
 
 /// The next f64 below `x` (towards `-inf`); `-inf` and NaN map to themselves.
-#[inline]
+#[inline(always)]
 pub(crate) fn next_down(x: f64) -> f64 {
     -next_up(-x)
 }

@@ -104,6 +104,7 @@ pub(crate) struct PlaneSide<'a> {
 }
 
 impl Formula for PlaneSide<'_> {
+    #[inline]
     fn eval<T: Arith>(&self, hom: &dyn Fn(&Point) -> [T; 4], conv: &dyn Fn(f64) -> T) -> T {
         let [a, b, c] = self.tri.map(|p| conv3(&p, conv));
         let n = normal(&a, &b, &c);
@@ -129,6 +130,7 @@ impl Formula for PlaneSide<'_> {
 pub(crate) struct Det4<'a>(pub(crate) [&'a Point; 4]);
 
 impl Formula for Det4<'_> {
+    #[inline]
     fn eval<T: Arith>(&self, hom: &dyn Fn(&Point) -> [T; 4], _conv: &dyn Fn(f64) -> T) -> T {
         let r = self.0.map(hom);
         // Laplace expansion along columns (0, 1) against columns (2, 3).
@@ -162,6 +164,7 @@ pub(crate) struct Det3<'a> {
 }
 
 impl Formula for Det3<'_> {
+    #[inline]
     fn eval<T: Arith>(&self, hom: &dyn Fn(&Point) -> [T; 4], _conv: &dyn Fn(f64) -> T) -> T {
         let r = self.pts.map(hom);
         let (u, v) = (self.u, self.v);
@@ -191,6 +194,7 @@ pub(crate) struct AxisDiff<'a> {
 }
 
 impl Formula for AxisDiff<'_> {
+    #[inline]
     fn eval<T: Arith>(&self, hom: &dyn Fn(&Point) -> [T; 4], _conv: &dyn Fn(f64) -> T) -> T {
         let ha = hom(self.a);
         let hb = hom(self.b);
