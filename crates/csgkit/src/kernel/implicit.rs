@@ -8,10 +8,10 @@
 //! the filter reuses (`filter_hom`). The sign of `W` is computed exactly at construction; a
 //! point whose `W` is exactly zero does not exist and is refused.
 
-use super::Sign;
 use super::arith::Arith;
 use super::interval::Interval;
 use super::predicates::{Formula, decide};
+use super::{Axis, Sign};
 
 /// A point given by three f64 coordinates.
 pub type Point3 = [f64; 3];
@@ -203,6 +203,33 @@ impl Point {
             }
             _ => unreachable!("built as a Tpi above"),
         }
+    }
+
+    /// The crossing point of the lines of two coplanar edges `e` and `f`, both lying in the
+    /// plane of `tri` (the coplanar edge–edge case of triangle–triangle intersection).
+    ///
+    /// Built as a [`Tpi`] of the plane of `tri` and, for each edge, a plane through the edge
+    /// and the direction of axis `drop`: its third point is the edge's first endpoint with
+    /// coordinate `drop` halved (or set to 1 when zero), which is exact and always differs
+    /// from the endpoint. Use `drop = Axis::of_largest(normal of tri)`.
+    ///
+    /// `None` when the lines are parallel in the projection along `drop`, when the plane of
+    /// `tri` is parallel to axis `drop`, or when a triangle is degenerate. If the edges are
+    /// not in the plane of `tri`, the point is still well defined (the plane of `tri` meets
+    /// the two edge planes) but is not on the edges: that is the caller's precondition.
+    pub fn edge_crossing(
+        tri: [Point3; 3],
+        e: [Point3; 2],
+        f: [Point3; 2],
+        drop: Axis,
+    ) -> Option<Point> {
+        let k = drop.index();
+        let lift = |a: Point3| {
+            let mut c = a;
+            c[k] = if a[k] == 0.0 { 1.0 } else { a[k] * 0.5 };
+            c
+        };
+        Point::tpi([tri, [e[0], e[1], lift(e[0])], [f[0], f[1], lift(f[0])]])
     }
 
     /// True for an input vertex.

@@ -552,6 +552,63 @@ fn construction_refuses_exactly_the_degenerate_definitions() {
     assert_eq!(p.approx(), [0.0, 0.0, 0.0]);
 }
 
+proptest! {
+    #![proptest_config(config(300, 0x6b65_726e_656c_0007))]
+
+    /// Coplanar edge–edge crossings: the point is on both edges' lines (collinear in the
+    /// projection), on the plane, equal to the LPI of one edge against the other edge's
+    /// vertical plane, and every predicate on it matches the oracle.
+    #[test]
+    fn coplanar_edge_crossings_match_oracle(
+        v in prop::collection::vec(prop::array::uniform3(-4i32..=4), 4),
+        tri in prop::collection::vec(prop::array::uniform3(-4i32..=4), 3),
+        k in 0usize..POW2_SCALES.len(),
+        float in any::<bool>(),
+        c in coords_at(1.0),
+    ) {
+        let s = pow2(POW2_SCALES[k]);
+        let tri: Vec<Point3> = tri.iter().map(|p| p.map(|x| f64::from(x) * s)).collect();
+        let tri = [tri[0], tri[1], tri[2]];
+        let (a, b0, c0) = (tri[0], tri[1], tri[2]);
+        // Edge endpoints in the plane: integer affine combinations of the triangle's vertices.
+        let in_plane = |w: [i32; 3]| {
+            let (i, j) = (f64::from(w[0]), f64::from(w[1]));
+            [0, 1, 2].map(|m| a[m] + i * (b0[m] - a[m]) + j * (c0[m] - a[m]))
+        };
+        let mut e: Vec<Point3> = v.iter().map(|w| in_plane(*w)).collect();
+        if float {
+            // Random-float endpoints are generally off the plane; still a valid construction.
+            e[3] = [c[0], c[1], c[2]].map(|x| x * s);
+        }
+        let n = {
+            let u = [0, 1, 2].map(|m| b0[m] - a[m]);
+            let w = [0, 1, 2].map(|m| c0[m] - a[m]);
+            [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
+        };
+        let drop = Axis::of_largest(n);
+        if let Some(x) = Point::edge_crossing(tri, [e[0], e[1]], [e[2], e[3]], drop) {
+            prop_assert_eq!(orient3d_plane(a, b0, c0, &x), Sign::Zero);
+            let (p, q) = (Point::Explicit(e[0]), Point::Explicit(e[1]));
+            prop_assert_eq!(orient2d_projected(&p, &q, &x, drop), Sign::Zero);
+            if !float {
+                let (p, q) = (Point::Explicit(e[2]), Point::Explicit(e[3]));
+                prop_assert_eq!(orient2d_projected(&p, &q, &x, drop), Sign::Zero);
+            }
+            let mut pts = vec![x, Point::Explicit(e[0]), Point::Explicit(e[3])];
+            let kk = drop.index();
+            let mut g = e[2];
+            g[kk] = if g[kk] == 0.0 { 1.0 } else { g[kk] * 0.5 };
+            if let Some(l) = Point::lpi(e[0], e[1], e[2], e[3], g) {
+                prop_assert!(same_point(&x, &l));
+                pts.push(l);
+            }
+            pts.push(Point::Explicit(e[1]));
+            pts.push(Point::Explicit(a));
+            check_all(&pts);
+        }
+    }
+}
+
 /// The oracle agrees with construction on random small-integer definitions.
 #[test]
 fn existence_matches_oracle() {
