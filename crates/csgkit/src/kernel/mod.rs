@@ -16,6 +16,35 @@
 //! Every predicate returns a [`Sign`] or an [`Ordering`](std::cmp::Ordering) that is the true
 //! answer for the exact real numbers the f64 inputs denote. No epsilon anywhere.
 //!
+//! # Example
+//! An edge of one mesh crossing a triangle of the other: the crossing point is kept as an
+//! [`Lpi`], lies exactly on the triangle's plane, and sorts between the edge's endpoints.
+//! ```
+//! use csgkit::kernel::{Axis, Point, Sign, compare_along, orient3d, orient3d_plane};
+//! let tri = [[0.0, 0.0, 0.1], [1.0, 0.0, 0.2], [0.0, 1.0, 0.3]];
+//! let (p, q) = ([0.1, 0.1, -1.0], [0.3, 0.2, 1.0]);
+//! // The endpoints are on opposite sides, so the line is not parallel to the plane.
+//! assert_eq!(orient3d(tri[0], tri[1], tri[2], p), Sign::Positive);
+//! assert_eq!(orient3d(tri[0], tri[1], tri[2], q), Sign::Negative);
+//! let x = Point::lpi(p, q, tri[0], tri[1], tri[2]).expect("the segment crosses the plane");
+//! assert_eq!(orient3d_plane(tri[0], tri[1], tri[2], &x), Sign::Zero);
+//! assert!(compare_along(&Point::Explicit(p), &x, Axis::Z).is_lt());
+//! assert!(compare_along(&x, &Point::Explicit(q), Axis::Z).is_lt());
+//! ```
+//!
+//! # For the pipeline
+//! - **intersect**: explicit [`orient3d`] of each vertex against the other triangle's plane;
+//!   an edge with endpoints strictly on both sides gives an [`Lpi`] (always constructible);
+//!   [`orient3d_plane`] and [`orient2d_projected`] place it against the other triangle's
+//!   edges. Coplanar triangles: [`orient2d_projected`] on explicit points, and
+//!   [`Point::edge_crossing`] for a crossing of two coplanar edges (a [`Tpi`]).
+//! - **split**: project with `Axis::of_largest(normal)` and run the constrained triangulation
+//!   on [`orient2d_projected`]; sort points on a segment with [`compare_along`] on an axis
+//!   where the segment is not constant, deduplicate with [`same_point`].
+//! - **classify**: ray parity or winding numbers use [`orient3d`] / [`orient3d_points`].
+//! - Canonical keys (vertex id, edge × triangle, …) are the pipeline's job; the kernel answers
+//!   whether two differently defined points are the same.
+//!
 //! # Numeric model
 //! An implicit point is a homogeneous vector `(X, Y, Z, W)`, each a polynomial in the input
 //! coordinates (the point is `(X/W, Y/W, Z/W)`); an explicit point has `W = 1`. Degrees, with

@@ -2,10 +2,12 @@
 //! `robust` crate (a faithful transcription of his `predicates.c`), with the answer as a
 //! [`Sign`].
 //!
-//! Range: `robust` is exact unless an intermediate overflows or underflows; for degrees 2 and
-//! 3 that needs coordinates beyond about `2^±200`. Outside `[2^-200, 2^200]` (or zero) these
-//! functions therefore answer through the implicit-point cascade, which is exact for every
-//! finite input.
+//! Range: `robust` is exact unless an intermediate overflows or underflows. For polynomials of
+//! degree 2 and 3 in differences of coordinates, that cannot happen while every nonzero
+//! coordinate magnitude is in `[2^-200, 2^200)`: products stay below `2^609`, and every
+//! partial product of Dekker's split stays above `2^(3 * (-200 - 53) - 53) > 2^-1022`.
+//! Outside that range these functions answer through the implicit-point cascade (interval
+//! filter, expansions, big integers), which is exact for every finite input.
 
 use robust::{Coord, Coord3D};
 

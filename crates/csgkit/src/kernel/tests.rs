@@ -609,6 +609,11 @@ proptest! {
     }
 }
 
+#[test]
+fn points_stay_small() {
+    assert!(std::mem::size_of::<Point>() <= 300);
+}
+
 /// The oracle agrees with construction on random small-integer definitions.
 #[test]
 fn existence_matches_oracle() {
