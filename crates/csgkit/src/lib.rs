@@ -18,7 +18,9 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+mod index;
 pub mod kernel;
 pub mod mesh;
 
+pub use index::{Aabb, Bvh};
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
