@@ -138,6 +138,22 @@ fn bench_kernel(c: &mut Criterion) {
         })
     });
 
+    // The same LPIs against the very triangle that defines them (a structural shortcut).
+    let lpi_own: Vec<([Point3; 3], Point)> = lpi_random
+        .iter()
+        .map(|(_, p)| match p {
+            Point::Lpi(l) => (l.definition().2, *p),
+            _ => unreachable!("random_lpi builds LPIs"),
+        })
+        .collect();
+    g.bench_function(BenchmarkId::new("orient3d_plane_lpi", "own_plane"), |b| {
+        b.iter(|| {
+            for (t, p) in &lpi_own {
+                black_box(orient3d_plane(t[0], t[1], t[2], p));
+            }
+        })
+    });
+
     let tpi_random: Vec<([Point3; 3], Point)> = (0..N)
         .map(|_| ([r.p3(), r.p3(), r.p3()], random_tpi(&mut r)))
         .collect();

@@ -255,6 +255,18 @@ impl Point {
         }
     }
 
+    /// True when the point is defined as lying on the plane of a triangle whose vertices are
+    /// those of `tri` (in any order): the plane of an [`Lpi`], one of the planes of a [`Tpi`].
+    /// A cheap structural test; `false` says nothing.
+    pub(crate) fn defined_on_plane_of(&self, tri: &[Point3; 3]) -> bool {
+        let same = |u: &[Point3], v: &[Point3; 3]| v.iter().all(|x| u.contains(x));
+        match self {
+            Point::Explicit(_) => false,
+            Point::Lpi(l) => same(&l.def[2..], tri),
+            Point::Tpi(t) => t.planes.iter().any(|pl| same(pl, tri)),
+        }
+    }
+
     /// Degree of `W` as a polynomial in the defining coordinates.
     pub(crate) fn w_degree(&self) -> u32 {
         match self {

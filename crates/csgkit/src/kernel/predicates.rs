@@ -240,6 +240,11 @@ pub fn orient3d_plane(a: Point3, b: Point3, c: Point3, d: &Point) -> Sign {
     if let Point::Explicit(p) = d {
         return orient3d(a, b, c, *p);
     }
+    if d.defined_on_plane_of(&[a, b, c]) {
+        // Exact by construction, and the most common query of the intersect stage: a
+        // crossing point against the triangle that made it. Saves the exact stages.
+        return Sign::Zero;
+    }
     decide(&PlaneSide { tri: [a, b, c], d }).times(d.w_sign())
 }
 
