@@ -65,28 +65,34 @@ fn random_tpi(r: &mut Rng) -> Point {
     }
 }
 
-/// An LPI through an integer point `x` against a plane through `x`, with that plane.
+/// An LPI through an integer point `x` against a plane through `x`, with another triangle
+/// spanning that plane (so the structural shortcut does not apply and the exact stages run).
 fn lpi_on_plane(r: &mut Rng) -> ([Point3; 3], Point) {
     loop {
-        let x = r.ip3();
-        let tri = [x, add(x, r.ip3()), add(x, r.ip3())];
+        let (x, u, v) = (r.ip3(), r.ip3(), r.ip3());
+        let tri = [x, add(x, u), add(x, v)];
+        let other = [add(x, add(u, v)), add(x, add(u, u)), sub(x, v)];
         let d = r.ip3();
         if let Some(p) = Point::lpi(sub(x, d), add(x, d), tri[0], tri[1], tri[2]) {
-            return (tri, p);
+            return (other, p);
         }
     }
 }
 
-/// A TPI of three random-float planes, with one of them.
+/// A TPI of three planes through an integer point, with another triangle spanning one of
+/// the planes.
 fn tpi_on_plane(r: &mut Rng) -> ([Point3; 3], Point) {
     loop {
-        let t = [
-            [r.p3(), r.p3(), r.p3()],
-            [r.p3(), r.p3(), r.p3()],
-            [r.p3(), r.p3(), r.p3()],
+        let x = r.ip3();
+        let d: Vec<Point3> = (0..6).map(|_| r.ip3()).collect();
+        let t = [0, 2, 4].map(|i| [x, add(x, d[i]), add(x, d[i + 1])]);
+        let other = [
+            add(x, add(d[0], d[1])),
+            add(x, add(d[0], d[0])),
+            sub(x, d[1]),
         ];
         if let Some(p) = Point::tpi(t) {
-            return (t[0], p);
+            return (other, p);
         }
     }
 }
@@ -222,9 +228,16 @@ fn bench_kernel(c: &mut Criterion) {
             }
         })
     });
+    // Each LPI against the vertex it passes through (the midpoint of its segment).
     let coincident: Vec<[Point; 2]> = lpi_degenerate
         .iter()
-        .map(|(t, p)| [*p, Point::Explicit(t[0])])
+        .map(|(_, p)| match p {
+            Point::Lpi(l) => {
+                let (a, b, _) = l.definition();
+                [*p, Point::Explicit([0, 1, 2].map(|i| (a[i] + b[i]) * 0.5))]
+            }
+            _ => unreachable!("lpi_on_plane builds LPIs"),
+        })
         .collect();
     g.bench_function(BenchmarkId::new("compare_lex_lpi", "coincident"), |b| {
         b.iter(|| {
