@@ -225,3 +225,30 @@ pub const fn expansion_bit_span(degree: u32) -> i32 {
 pub(crate) const fn expansion_top_exponent(degree: u32) -> i32 {
     (900 / degree) as i32 - 1
 }
+
+#[cfg(test)]
+mod sign_tests {
+    use super::*;
+
+    #[test]
+    fn sign_algebra() {
+        use Sign::*;
+        assert_eq!(Sign::of(-0.0), Zero);
+        assert_eq!(Sign::of(-1e-320), Negative);
+        assert_eq!(Negative.times(Negative), Positive);
+        assert_eq!(Negative.times(Positive), Negative);
+        assert_eq!(Zero.times(Negative), Zero);
+        assert_eq!(Positive.flip(), Negative);
+        assert_eq!(Zero.flip(), Zero);
+        assert!(Negative.to_ordering().is_lt());
+    }
+
+    #[test]
+    fn largest_axis() {
+        assert_eq!(Axis::of_largest([0.0, -3.0, 2.0]), Axis::Y);
+        assert_eq!(Axis::of_largest([1.0, 1.0, 1.0]), Axis::X);
+        assert_eq!(Axis::of_largest([0.0, 0.0, -1e-300]), Axis::Z);
+        assert_eq!(expansion_bit_span(6), 299);
+        assert_eq!(expansion_bit_span(MAX_DEGREE), 65);
+    }
+}
