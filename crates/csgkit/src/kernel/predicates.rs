@@ -255,6 +255,22 @@ pub fn orient3d_points(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
     if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
         return orient3d_plane(*a, *b, *c, d);
     }
+    // One implicit point among a, b, c and an explicit d: swapping two points flips the
+    // sign, and the plane form is cheaper than the 4 × 4 determinant.
+    if let Point::Explicit(e) = d {
+        match (a, b, c) {
+            (x, Point::Explicit(b), Point::Explicit(c)) => {
+                return orient3d_plane(*e, *b, *c, x).flip();
+            }
+            (Point::Explicit(a), x, Point::Explicit(c)) => {
+                return orient3d_plane(*a, *e, *c, x).flip();
+            }
+            (Point::Explicit(a), Point::Explicit(b), x) => {
+                return orient3d_plane(*a, *b, *e, x).flip();
+            }
+            _ => {}
+        }
+    }
     let w = a
         .w_sign()
         .times(b.w_sign())
