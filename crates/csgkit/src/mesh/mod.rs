@@ -18,11 +18,24 @@
 //! Positions may be any f64, including non-finite ones: readers reject those at the file
 //! boundary, where they can name the line.
 
+mod degenerate;
 mod ids;
+mod measures;
+mod report;
+#[cfg(test)]
+mod test_meshes;
+mod topology;
+mod union_find;
 mod validation;
+mod weld;
 
+pub use degenerate::{DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape};
 pub use ids::{FaceId, OperandId, VertexId};
+pub use measures::{BoundingBox, Measures, bounding_box, measure};
+pub use report::{MeshReport, analyze};
+pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
 pub use validation::InvalidMesh;
+pub use weld::{Welding, weld, weld_positions};
 
 /// An RGBA colour with 8 bits per channel.
 pub type Rgba = [u8; 4];
