@@ -20,10 +20,9 @@
 //! unspecified but panic-free answer.
 //!
 //! # Complexity
-//! O(C) predicate calls for C corners; duplicate detection hashes every face once, O(C).
+//! O(C) predicate calls for C corners; duplicate detection sorts the faces, O(F log F).
 
 use robust::{Coord, orient2d};
-use rustc_hash::FxHashSet;
 
 use super::Mesh;
 
@@ -42,6 +41,14 @@ pub enum FaceShape {
 pub fn face_shape(positions: &[[f64; 3]], corners: &[u32]) -> FaceShape {
     if has_repeated_vertex(corners) {
         return FaceShape::RepeatedVertex;
+    }
+    if let [a, b, c] = *corners {
+        let p = |v: u32| positions[v as usize];
+        return if are_collinear(p(a), p(b), p(c)) {
+            FaceShape::Collinear
+        } else {
+            FaceShape::Proper
+        };
     }
     let first = positions[corners[0] as usize];
     let other = corners
@@ -94,28 +101,40 @@ pub struct DegenerateCounts {
 /// Classifies every face of a welded mesh and counts duplicate faces.
 pub fn count_degenerate(mesh: &Mesh) -> DegenerateCounts {
     let mut counts = DegenerateCounts::default();
-    let mut seen: FxHashSet<Vec<u32>> = FxHashSet::default();
-    let mut seen_triangles: FxHashSet<[u32; 3]> = FxHashSet::default();
     for corners in mesh.faces() {
         match face_shape(mesh.positions(), corners) {
             FaceShape::Proper => {}
             FaceShape::RepeatedVertex => counts.repeated_vertex += 1,
             FaceShape::Collinear => counts.collinear += 1,
         }
-        let fresh = if let [a, b, c] = *corners {
+    }
+    counts.duplicate = count_duplicate_faces(mesh);
+    counts
+}
+
+/// The number of faces whose sorted vertex list equals an earlier face's.
+///
+/// Sorting the keys and counting equal neighbours is faster than hashing on large meshes.
+/// A triangle never equals a larger face, so the two kinds are counted apart.
+fn count_duplicate_faces(mesh: &Mesh) -> usize {
+    let mut triangles = Vec::new();
+    let mut polygons = Vec::new();
+    for corners in mesh.faces() {
+        if let [a, b, c] = *corners {
             let mut key = [a, b, c];
             key.sort_unstable();
-            seen_triangles.insert(key)
+            triangles.push(key);
         } else {
             let mut key = corners.to_vec();
             key.sort_unstable();
-            seen.insert(key)
-        };
-        if !fresh {
-            counts.duplicate += 1;
+            polygons.push(key);
         }
     }
-    counts
+    triangles.sort_unstable();
+    polygons.sort_unstable();
+    let repeats = |n: usize, same: &dyn Fn(usize) -> bool| (1..n).filter(|&i| same(i)).count();
+    repeats(triangles.len(), &|i| triangles[i] == triangles[i - 1])
+        + repeats(polygons.len(), &|i| polygons[i] == polygons[i - 1])
 }
 
 #[cfg(test)]

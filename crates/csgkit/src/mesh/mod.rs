@@ -35,7 +35,7 @@ pub use measures::{BoundingBox, Measures, bounding_box, measure};
 pub use report::{MeshReport, analyze};
 pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
 pub use validation::InvalidMesh;
-pub use weld::{Welding, weld, weld_positions};
+pub use weld::{Welding, apply_welding, weld, weld_positions};
 
 /// An RGBA colour with 8 bits per channel.
 pub type Rgba = [u8; 4];

@@ -1,6 +1,6 @@
 //! One report gathering every validity check and measure of a mesh.
 //!
-//! [`analyze`] welds bit-identical vertices ([`super::weld`]), then runs the topology
+//! [`analyze`] welds equal vertices (`-0.0` with `+0.0`) ([`super::weld`]), then runs the topology
 //! ([`super::analyze_topology`]), the exact degeneracy checks ([`super::count_degenerate`]) and
 //! the geometric measures ([`super::measure`]) on the welded mesh. The module docs of each
 //! define its numbers; `shared/data/manifest.json` names the same quantities as follows:
@@ -16,7 +16,10 @@
 //! solid, and the boolean engines must accept and produce such meshes.
 //!
 //! # Complexity
-//! O(C log C) for C corners, dominated by the sort of the edge table.
+//! Linear in practice: hash maps for welding, bucketed sorts for edges, and one sort of the
+//! faces for duplicates (O(F log F)).
+
+use std::borrow::Cow;
 
 use serde::Serialize;
 
@@ -33,7 +36,7 @@ pub struct MeshReport {
     pub polygons: usize,
     /// Triangles of a fan triangulation of every face.
     pub triangles: usize,
-    /// Stored vertices that repeat an earlier position bit for bit.
+    /// Stored vertices that repeat an earlier position (equal coordinates).
     pub duplicate_vertices: usize,
     /// Distinct positions after welding.
     pub welded_vertices: usize,
@@ -72,7 +75,13 @@ impl MeshReport {
 
 /// Welds the mesh and computes every check and measure.
 pub fn analyze(mesh: &Mesh) -> MeshReport {
-    let (welded, welding) = super::weld(mesh);
+    let welding = super::weld_positions(mesh.positions());
+    // Most meshes other than STL have nothing to weld: skip the copy then.
+    let welded = if welding.duplicate_count() == 0 {
+        Cow::Borrowed(mesh)
+    } else {
+        Cow::Owned(super::apply_welding(mesh, &welding))
+    };
     let topology = super::analyze_topology(&welded);
     let degenerate = super::count_degenerate(&welded);
     let measures = super::measure(&welded);

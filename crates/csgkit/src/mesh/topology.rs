@@ -2,7 +2,7 @@
 //! components, Euler characteristic and genus.
 //!
 //! Everything here is counting on vertex indices; no coordinate takes part, so every answer
-//! is exact. Run it on a mesh whose bit-identical vertices are welded ([`super::weld`]), as
+//! is exact. Run it on a mesh whose equal vertices are welded ([`super::weld`]), as
 //! [`super::analyze`] does; on an unwelded STL every edge is a boundary edge.
 //!
 //! # Definitions
@@ -48,15 +48,17 @@
 //! # Algorithm
 //! 1. Mark the faces that take part and the vertices that any face uses.
 //! 2. Emit one record per face side (a *half-edge*: its sorted vertex pair packed in a `u64`,
-//!    and the corners it leaves and enters), then sort the records by the pair: each run of
-//!    equal keys is one edge with all its uses.
+//!    and the corners it leaves and enters), grouped by the smaller vertex with a counting
+//!    sort and then sorted by the pair within each group: each run of equal keys is one edge
+//!    with all its uses.
 //! 3. One pass over the runs counts the edge classes and feeds three disjoint-set forests:
 //!    faces (components), corners at each end of the edge (fans) and boundary vertices (loops).
 //! 4. Count the distinct roots: components, fans per vertex, loops.
 //!
 //! # Complexity
-//! O(C log C) time for C corners (the sort), O(C) memory: 16 bytes per half-edge and 4 per
-//! corner, face and vertex. Indices are `u32`, as [`Mesh`] guarantees.
+//! O(C + Σ dᵥ log dᵥ) time for C corners, dᵥ being the number of sides whose smaller vertex
+//! is v (a handful on real meshes, so linear in practice), O(C) memory: 16 bytes per
+//! half-edge and 4 per corner, face and vertex. Indices are `u32`, as [`Mesh`] guarantees.
 
 use serde::Serialize;
 
@@ -191,38 +193,49 @@ impl EdgeUses {
 }
 
 impl<'m> EdgeTable<'m> {
-    /// Builds the table of a mesh whose bit-identical vertices are already welded.
+    /// Builds the table of a mesh whose equal vertices are already welded.
     pub fn new(mesh: &'m Mesh) -> Self {
         let takes_part: Vec<bool> = mesh.faces().map(has_three_distinct).collect();
         let corners = mesh.corners();
-        let mut half_edges = Vec::with_capacity(corners.len());
-        let mut merged_corners = Vec::new();
-        for (face, &part) in takes_part.iter().enumerate() {
-            if !part {
-                continue;
+        // Bucket the half-edges by their smaller vertex (a counting sort), then sort each
+        // small bucket: linear time, unlike one sort of all half-edges.
+        let mut bucket_starts = vec![0u32; mesh.vertex_count() + 1];
+        for_each_side(mesh, &takes_part, |origin, target| {
+            let (v, w) = (corners[origin as usize], corners[target as usize]);
+            if v != w {
+                bucket_starts[v.min(w) as usize + 1] += 1;
             }
-            let range = mesh.face_range(super::FaceId::new(face));
-            for origin in range.clone() {
-                let target = if origin + 1 == range.end {
-                    range.start
-                } else {
-                    origin + 1
-                };
-                let (v, w) = (corners[origin], corners[target]);
-                let pair = (origin as u32, target as u32);
-                if v == w {
-                    merged_corners.push(pair);
-                } else {
-                    let key = (u64::from(v.min(w)) << 32) | u64::from(v.max(w));
-                    half_edges.push(HalfEdge {
-                        key,
-                        origin: pair.0,
-                        target: pair.1,
-                    });
-                }
-            }
+        });
+        for v in 1..bucket_starts.len() {
+            bucket_starts[v] += bucket_starts[v - 1];
         }
-        half_edges.sort_unstable_by_key(|h| h.key);
+        let empty = HalfEdge {
+            key: 0,
+            origin: 0,
+            target: 0,
+        };
+        let mut half_edges =
+            vec![empty; *bucket_starts.last().expect("one entry per vertex + 1") as usize];
+        let mut next_slot = bucket_starts.clone();
+        let mut merged_corners = Vec::new();
+        for_each_side(mesh, &takes_part, |origin, target| {
+            let (v, w) = (corners[origin as usize], corners[target as usize]);
+            if v == w {
+                merged_corners.push((origin, target));
+                return;
+            }
+            let slot = &mut next_slot[v.min(w) as usize];
+            let key = (u64::from(v.min(w)) << 32) | u64::from(v.max(w));
+            half_edges[*slot as usize] = HalfEdge {
+                key,
+                origin,
+                target,
+            };
+            *slot += 1;
+        });
+        for bucket in bucket_starts.windows(2) {
+            half_edges[bucket[0] as usize..bucket[1] as usize].sort_unstable_by_key(|h| h.key);
+        }
         let starts = run_starts(&half_edges);
         Self {
             corners,
@@ -280,6 +293,33 @@ impl<'m> EdgeTable<'m> {
     }
 }
 
+/// Calls `side(origin, target)` for every side (pair of consecutive corners, the last corner
+/// followed by the first) of every face that takes part.
+fn for_each_side(mesh: &Mesh, takes_part: &[bool], mut side: impl FnMut(u32, u32)) {
+    if mesh.is_triangle_mesh() {
+        for (face, &part) in takes_part.iter().enumerate() {
+            if part {
+                let c = 3 * face as u32;
+                side(c, c + 1);
+                side(c + 1, c + 2);
+                side(c + 2, c);
+            }
+        }
+        return;
+    }
+    for (face, &part) in takes_part.iter().enumerate() {
+        if !part {
+            continue;
+        }
+        let range = mesh.face_range(super::FaceId::new(face));
+        let (first, last) = (range.start as u32, range.end as u32 - 1);
+        for origin in first..last {
+            side(origin, origin + 1);
+        }
+        side(last, first);
+    }
+}
+
 /// Start of each run of equal keys, plus a final entry equal to the length.
 fn run_starts(half_edges: &[HalfEdge]) -> Vec<u32> {
     let mut starts = Vec::with_capacity(half_edges.len() / 2 + 1);
@@ -315,7 +355,7 @@ fn has_three_distinct(corners: &[u32]) -> bool {
     sorted.len() >= 3
 }
 
-/// Computes every count of [`Topology`] for a mesh whose bit-identical vertices are welded.
+/// Computes every count of [`Topology`] for a mesh whose equal vertices are welded.
 pub fn analyze_topology(mesh: &Mesh) -> Topology {
     let table = EdgeTable::new(mesh);
     let referenced = referenced_vertices(mesh);
