@@ -17,6 +17,16 @@
 //! [`Mesh::check_invariants`] verifies all of it; [`Mesh::from_parts`] establishes it.
 //! Positions may be any f64, including non-finite ones: readers reject those at the file
 //! boundary, where they can name the line.
+//!
+//! # Validity and measures
+//! Whether a mesh bounds a solid is a measure, not an invariant. [`analyze`] (or
+//! [`Mesh::report`]) welds equal positions ([`weld`]), builds the edge table once
+//! ([`EdgeTable`]) and gathers every check and measure in a [`MeshReport`]: boundary edges
+//! and loops, closedness (every edge balanced), edge- and vertex-manifoldness, orientation,
+//! components, Euler characteristic and genus ([`Topology`]), exactly decided degenerate and
+//! duplicate faces ([`count_degenerate`]), and signed volume, area and bounding box
+//! ([`measure`]). The submodules' docs define each number and say where it differs from the
+//! reference measurements in `shared/data/manifest.json`.
 
 mod degenerate;
 mod ids;

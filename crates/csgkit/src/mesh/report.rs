@@ -71,6 +71,16 @@ impl MeshReport {
     pub fn is_valid_solid(&self) -> bool {
         self.valid_solid
     }
+
+    /// Counts the vertices a file stored rather than those of the mesh read from it.
+    ///
+    /// Readers of formats without shared vertices (STL) weld on read, so the mesh has fewer
+    /// vertices than the file; this sets [`vertices`](Self::vertices) to the file's count and
+    /// counts the vertices welded away by the reader as duplicates too.
+    pub fn count_file_vertices(&mut self, file_vertices: usize) {
+        self.vertices = file_vertices;
+        self.duplicate_vertices = file_vertices.saturating_sub(self.welded_vertices);
+    }
 }
 
 /// Welds the mesh and computes every check and measure.
@@ -214,6 +224,25 @@ mod tests {
         assert_eq!(t.non_manifold_vertices, 1);
         assert_eq!((t.components, t.vertex_components), (2, 1));
         assert_eq!(t.genus, None);
+    }
+
+    #[test]
+    fn json_report_is_flat_and_writes_non_finite_as_null() {
+        let mut report = cube([0.0; 3], 1.0).report();
+        report.measures.volume = f64::INFINITY;
+        let json = serde_json::to_value(&report).unwrap();
+        assert_eq!(json["boundary_loops"], 0);
+        assert_eq!(json["genus"], 0);
+        assert_eq!(json["valid_solid"], true);
+        assert_eq!(json["bbox"]["max"][2], 1.0);
+        assert!(json["volume"].is_null());
+    }
+
+    #[test]
+    fn file_vertices_count_as_duplicates() {
+        let mut report = cube([0.0; 3], 1.0).report();
+        report.count_file_vertices(36);
+        assert_eq!((report.vertices, report.duplicate_vertices), (36, 28));
     }
 
     #[test]
