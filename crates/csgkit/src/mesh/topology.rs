@@ -68,7 +68,12 @@ use super::union_find::UnionFind;
 /// Marks "no root seen yet" in per-vertex root tables.
 const NO_ROOT: u32 = u32::MAX;
 
-/// The topological counts of a mesh; see the [module documentation](self) for definitions.
+/// The topological counts of a mesh.
+///
+/// The definitions (and where they differ from the reference data) head the source file
+/// `mesh/topology.rs`; in short: edges are unordered pairs of welded vertices, faces with a
+/// repeated vertex are left out, *closed* means every edge has as many uses in each direction,
+/// boundary loops are the connected components of the boundary edges.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct Topology {
     /// Vertices used by at least one face.
