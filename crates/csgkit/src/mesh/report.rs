@@ -246,6 +246,18 @@ mod tests {
     }
 
     #[test]
+    fn non_finite_coordinates_do_not_panic() {
+        let mut parts = cube([0.0; 3], 1.0).into_parts();
+        parts.positions[0] = [f64::NAN, 0.0, 0.0];
+        parts.positions[7] = [f64::INFINITY, f64::NEG_INFINITY, 1.0];
+        let report = Mesh::from_parts(parts).unwrap().report();
+        // Topology needs no coordinate: the cube is still a closed genus-0 surface.
+        assert!(report.valid_solid);
+        assert_eq!(report.topology.genus, Some(0));
+        assert!(report.measures.volume.is_nan());
+    }
+
+    #[test]
     fn empty_mesh_reports_zeros() {
         let report = Mesh::new().report();
         assert!(report.closed && report.oriented);
