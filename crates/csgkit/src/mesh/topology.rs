@@ -514,3 +514,102 @@ fn genus(topology: &Topology, touched_vertices: usize, faces: usize) -> Option<i
     let twice_genus = 2 * topology.components as i64 - chi;
     (solid_manifold && twice_genus % 2 == 0).then_some(twice_genus / 2)
 }
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::mesh::MeshParts;
+    use crate::mesh::test_meshes::{cube, torus};
+
+    #[test]
+    fn edge_kinds_follow_use_counts() {
+        let uses = |forward, backward| EdgeUses {
+            a: 0,
+            b: 1,
+            forward,
+            backward,
+        };
+        assert_eq!(uses(1, 0).kind(), EdgeKind::Boundary);
+        assert_eq!(uses(1, 1).kind(), EdgeKind::Manifold);
+        assert_eq!(uses(0, 2).kind(), EdgeKind::Misoriented);
+        assert_eq!(uses(2, 2).kind(), EdgeKind::NonManifold);
+        assert!(uses(2, 2).is_balanced() && !uses(2, 1).is_balanced());
+    }
+
+    #[test]
+    fn edge_table_lists_each_edge_once_with_its_uses() {
+        let mesh = cube([0.0; 3], 1.0);
+        let table = EdgeTable::new(&mesh);
+        assert_eq!(table.edge_count(), 18);
+        assert!(
+            table
+                .edges()
+                .all(|e| e.a < e.b && e.forward == 1 && e.backward == 1)
+        );
+    }
+
+    #[test]
+    fn zero_length_polygon_sides_are_skipped() {
+        // A quad whose third corner repeats the second: really the triangle (0, 1, 2).
+        let mesh = Mesh::from_parts(MeshParts {
+            positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            corners: vec![0, 1, 1, 2],
+            face_starts: Some(vec![0, 4]),
+            ..MeshParts::default()
+        })
+        .unwrap();
+        let topology = analyze_topology(&mesh);
+        assert_eq!((topology.edges, topology.boundary_edges), (3, 3));
+        assert_eq!((topology.boundary_loops, topology.euler), (1, 1));
+        assert_eq!(topology.non_manifold_vertices, 0);
+    }
+
+    /// A mesh with its vertices renumbered by `shift` (mod V) and each face's corners rotated.
+    fn relabel(mesh: &Mesh, shift: u32, rotate: usize) -> Mesh {
+        let n = mesh.vertex_count() as u32;
+        let mut positions = mesh.positions().to_vec();
+        positions.rotate_right(shift as usize);
+        let mut corners = Vec::new();
+        let mut face_starts = vec![0];
+        for face in mesh.faces() {
+            let k = rotate % face.len();
+            corners.extend(face[k..].iter().chain(&face[..k]).map(|&v| (v + shift) % n));
+            face_starts.push(corners.len() as u32);
+        }
+        Mesh::from_parts(MeshParts {
+            positions,
+            corners,
+            face_starts: Some(face_starts),
+            ..MeshParts::default()
+        })
+        .unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Topology depends on the combinatorics only, not on labels or starting corners.
+        #[test]
+        fn topology_is_invariant_under_relabelling(
+            triangles in prop::collection::vec([0u32..7, 0u32..7, 0u32..7], 1..20),
+            shift in 0u32..7,
+            rotate in 0usize..3,
+        ) {
+            let positions = (0..7).map(|i| [f64::from(i), f64::from(i * i), 0.0]).collect();
+            let mesh = Mesh::from_triangles(positions, &triangles).unwrap();
+            let topology = analyze_topology(&mesh);
+            prop_assert_eq!(&topology, &analyze_topology(&relabel(&mesh, shift, rotate)));
+            prop_assert!(topology.boundary_edges <= topology.unbalanced_edges);
+            prop_assert!(topology.vertex_components <= topology.components);
+            prop_assert!(topology.boundary_loops <= topology.boundary_edges);
+        }
+    }
+
+    #[test]
+    fn relabelled_torus_keeps_its_genus() {
+        let mesh = relabel(&torus(5, true), 7, 1);
+        assert_eq!(analyze_topology(&mesh).genus, Some(1));
+    }
+}
