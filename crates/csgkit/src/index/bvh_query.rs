@@ -1,0 +1,238 @@
+//! Overlap queries: every pair of primitives whose boxes overlap.
+//!
+//! # Overview
+//! 1. Descend both trees together from the roots, breadth first, keeping node pairs whose
+//!    boxes overlap, until there are enough pairs to share among threads (a *frontier*).
+//! 2. Finish each frontier pair by a depth-first descent on its own thread; at two leaves,
+//!    test the primitive boxes directly.
+//! 3. Concatenate the per-pair results in frontier order, so the output order does not
+//!    depend on the thread count.
+//!
+//! The self query walks the one tree against itself and visits each unordered node pair
+//! once: a node against itself expands to (left, left), (right, right) and (left, right).
+
+use rayon::prelude::*;
+
+use super::{Aabb, Bvh};
+
+/// Frontier size: enough pairs to balance uneven subtrees over many threads. It is fixed,
+/// not scaled by the thread count, because the output order follows the frontier.
+const FRONTIER_TARGET: usize = 1024;
+
+/// Which two trees a traversal walks.
+#[derive(Clone, Copy)]
+struct Walk<'a> {
+    a: &'a Bvh,
+    b: &'a Bvh,
+    /// `a` and `b` are the same tree and each unordered pair is wanted once.
+    same_tree: bool,
+}
+
+impl Bvh {
+    /// Every pair `(id in self, id in other)` whose primitive boxes overlap (touching counts).
+    pub fn overlapping_pairs(&self, other: &Bvh) -> Vec<(u32, u32)> {
+        Walk {
+            a: self,
+            b: other,
+            same_tree: false,
+        }
+        .run()
+    }
+
+    /// Every unordered pair of distinct primitives of this tree whose boxes overlap, each
+    /// once, as `(smaller id, larger id)`.
+    pub fn self_overlapping_pairs(&self) -> Vec<(u32, u32)> {
+        Walk {
+            a: self,
+            b: self,
+            same_tree: true,
+        }
+        .run()
+    }
+}
+
+impl Walk<'_> {
+    fn run(self) -> Vec<(u32, u32)> {
+        if self.a.is_empty() || self.b.is_empty() {
+            return Vec::new();
+        }
+        let frontier = self.frontier(FRONTIER_TARGET);
+        let parts: Vec<Vec<(u32, u32)>> = frontier
+            .par_iter()
+            .map(|&pair| {
+                let mut out = Vec::new();
+                self.descend(pair, &mut out);
+                out
+            })
+            .collect();
+        parts.concat()
+    }
+
+    /// Node pairs whose subtrees together hold every overlapping primitive pair, expanded
+    /// breadth first until there are at least `target` of them or nothing is left to expand.
+    fn frontier(self, target: usize) -> Vec<(usize, usize)> {
+        let mut frontier = vec![(0, 0)];
+        if !self.nodes_overlap(0, 0) {
+            return Vec::new();
+        }
+        while frontier.len() < target {
+            let mut next = Vec::with_capacity(frontier.len() * 4);
+            let mut expanded = false;
+            for &pair in &frontier {
+                let before = next.len();
+                self.children(pair, |child| next.push(child));
+                if next.len() == before && self.is_leaf_pair(pair) {
+                    next.push(pair);
+                } else {
+                    expanded = true;
+                }
+            }
+            frontier = next;
+            if !expanded {
+                break;
+            }
+        }
+        frontier
+    }
+
+    /// Depth-first descent below one node pair, appending overlapping primitive pairs.
+    fn descend(self, root: (usize, usize), out: &mut Vec<(u32, u32)>) {
+        let mut stack = vec![root];
+        while let Some(pair) = stack.pop() {
+            if self.is_leaf_pair(pair) {
+                self.leaf_pairs(pair, out);
+            } else {
+                self.children(pair, |child| stack.push(child));
+            }
+        }
+    }
+
+    fn is_leaf_pair(self, (a, b): (usize, usize)) -> bool {
+        self.a.is_leaf(a) && self.b.is_leaf(b)
+    }
+
+    fn nodes_overlap(self, a: usize, b: usize) -> bool {
+        self.a.nodes[a].overlaps(&self.b.nodes[b])
+    }
+
+    /// Calls `visit` on each overlapping child pair of an inner pair (none for a leaf pair).
+    fn children(self, (a, b): (usize, usize), mut visit: impl FnMut((usize, usize))) {
+        let split = |tree: &Bvh, node: usize| {
+            if tree.is_leaf(node) {
+                [Some(node), None]
+            } else {
+                [Some(2 * node + 1), Some(2 * node + 2)]
+            }
+        };
+        if self.is_leaf_pair((a, b)) {
+            return;
+        }
+        let (sa, sb) = (split(self.a, a), split(self.b, b));
+        for (i, ca) in sa.iter().flatten().enumerate() {
+            for (j, cb) in sb.iter().flatten().enumerate() {
+                // On the diagonal of the self query, (right, left) repeats (left, right).
+                if self.same_tree && a == b && j < i {
+                    continue;
+                }
+                if self.nodes_overlap(*ca, *cb) {
+                    visit((*ca, *cb));
+                }
+            }
+        }
+    }
+
+    /// Appends the overlapping primitive pairs of two leaves.
+    fn leaf_pairs(self, (a, b): (usize, usize), out: &mut Vec<(u32, u32)>) {
+        let (ra, rb) = (self.a.leaf_primitives(a), self.b.leaf_primitives(b));
+        for i in ra {
+            let box_a: &Aabb = &self.a.boxes[i];
+            let rb = if self.same_tree && a == b {
+                i + 1..rb.end
+            } else {
+                rb.clone()
+            };
+            for j in rb {
+                if box_a.overlaps(&self.b.boxes[j]) {
+                    let (ia, ib) = (self.a.ids[i], self.b.ids[j]);
+                    out.push(if self.same_tree && ib < ia {
+                        (ib, ia)
+                    } else {
+                        (ia, ib)
+                    });
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn brute_pairs(a: &[Aabb], b: &[Aabb]) -> Vec<(u32, u32)> {
+        let mut pairs = Vec::new();
+        for (i, x) in a.iter().enumerate() {
+            for (j, y) in b.iter().enumerate() {
+                if x.overlaps(y) {
+                    pairs.push((i as u32, j as u32));
+                }
+            }
+        }
+        pairs
+    }
+
+    fn boxes_strategy() -> impl Strategy<Value = Vec<Aabb>> {
+        // Integer corners on a small grid make touching boxes common.
+        let corner = (0i32..12, 0i32..12, 0i32..12);
+        let extent = (0i32..4, 0i32..4, 0i32..4);
+        proptest::collection::vec((corner, extent), 0..120).prop_map(|v| {
+            v.into_iter()
+                .map(|((x, y, z), (dx, dy, dz))| {
+                    let min = [x as f64, y as f64, z as f64];
+                    let max = [(x + dx) as f64, (y + dy) as f64, (z + dz) as f64];
+                    Aabb::from_points(&[min, max])
+                })
+                .collect()
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+        #[test]
+        fn pairs_match_brute_force(a in boxes_strategy(), b in boxes_strategy()) {
+            let mut got = Bvh::build(&a).overlapping_pairs(&Bvh::build(&b));
+            got.sort_unstable();
+            prop_assert_eq!(got, brute_pairs(&a, &b));
+        }
+
+        #[test]
+        fn self_pairs_match_brute_force(a in boxes_strategy()) {
+            let mut got = Bvh::build(&a).self_overlapping_pairs();
+            got.sort_unstable();
+            let want: Vec<_> = brute_pairs(&a, &a).into_iter().filter(|(i, j)| i < j).collect();
+            prop_assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn result_order_is_independent_of_thread_count() {
+        let boxes: Vec<Aabb> = (0..5000)
+            .map(|i| {
+                let p = [(i % 17) as f64, (i % 23) as f64, (i % 29) as f64];
+                Aabb::from_points(&[p, [p[0] + 1.5, p[1] + 1.5, p[2] + 1.5]])
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        let pool = |n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        };
+        let one = pool(1).install(|| bvh.self_overlapping_pairs());
+        let many = pool(4).install(|| Bvh::build(&boxes).self_overlapping_pairs());
+        assert_eq!(one, many);
+    }
+}
