@@ -7,7 +7,8 @@
 //!
 //! # Definitions
 //! They follow the reference measurements of `shared/data/README.md` ("Measured properties"),
-//! with one deliberate difference (*closed*), and agree with `manifest.json` on every file.
+//! with two deliberate differences (*closed*, and the edge count of polygons), and agree with
+//! `manifest.json` on every file (`tests/real_data.rs` checks it).
 //! - A face **takes part** in the topology when it has at least three distinct vertices.
 //!   A face with a repeated vertex (a *combinatorially degenerate* face, such as the pole
 //!   triangles of `capsule.obj`) is left out of every count below except the vertex count of
@@ -21,8 +22,8 @@
 //!   Its *uses* are the face sides on it; a use is *forward* when it runs from the smaller
 //!   vertex index to the larger.
 //! - **Boundary edge**: one use. **Non-manifold edge**: three or more uses.
-//!   **Misoriented edge**: two uses in the same direction. **Unbalanced edge**: as many forward
-//!   as backward uses fails.
+//!   **Misoriented edge**: two uses in the same direction. **Unbalanced edge**: forward and
+//!   backward use counts differ.
 //! - **Closed** (csgkit's definition): no unbalanced edge. This accepts two cubes sharing an
 //!   edge (four uses, two each way), which a boolean engine must accept as a solid. The
 //!   reference calls a mesh closed when it has no boundary edge. A boundary edge is always
@@ -53,7 +54,8 @@
 //!    with all its uses.
 //! 3. One pass over the runs counts the edge classes and feeds three disjoint-set forests:
 //!    faces (components), corners at each end of the edge (fans) and boundary vertices (loops).
-//! 4. Count the distinct roots: components, fans per vertex, loops.
+//! 4. Count the distinct roots: components, fans per vertex, loops; a fourth forest joins the
+//!    vertices of each face for the vertex components.
 //!
 //! # Complexity
 //! O(C + Σ dᵥ log dᵥ) time for C corners, dᵥ being the number of sides whose smaller vertex
