@@ -17,7 +17,8 @@
 //!
 //! # Complexity
 //! Linear in practice: hash maps for welding, bucketed sorts for edges, and one sort of the
-//! faces for duplicates (O(F log F)).
+//! faces for duplicates (O(F log F)). The topology, the degeneracy checks and the measures run
+//! in parallel (rayon), each sequential inside.
 
 use std::borrow::Cow;
 
@@ -92,9 +93,17 @@ pub fn analyze(mesh: &Mesh) -> MeshReport {
     } else {
         Cow::Owned(super::apply_welding(mesh, &welding))
     };
-    let topology = super::analyze_topology(&welded);
-    let degenerate = super::count_degenerate(&welded);
-    let measures = super::measure(&welded);
+    // The three analyses are independent; run them side by side (the answer does not depend
+    // on the thread count).
+    let (topology, (degenerate, measures)) = rayon::join(
+        || super::analyze_topology(&welded),
+        || {
+            rayon::join(
+                || super::count_degenerate(&welded),
+                || super::measure(&welded),
+            )
+        },
+    );
     let polygons = mesh.faces().filter(|f| f.len() > 3).count();
     let closed = topology.is_closed();
     let oriented = topology.is_oriented();
