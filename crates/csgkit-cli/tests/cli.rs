@@ -96,6 +96,39 @@ fn info_prints_format_counts_and_box() {
 }
 
 #[test]
+fn info_counts_the_vertices_an_stl_stores() {
+    let facet = |a: &str, b: &str, c: &str| {
+        format!(
+            "facet normal 0 0 0\nouter loop\nvertex {a}\nvertex {b}\nvertex {c}\nendloop\nendfacet\n"
+        )
+    };
+    let stl = format!(
+        "solid square\n{}{}endsolid square\n",
+        facet("0 0 0", "1 0 0", "1 1 0"),
+        facet("0 0 0", "1 1 0", "0 1 0")
+    );
+    let path = temp_file("stl", "square.stl", &stl);
+    let output = csgkit(&["info", path.to_str().expect("utf-8")]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(text.contains("STL (text)"), "{text}");
+    assert!(
+        text.contains("vertices:    4 (6 stored, welded on read)"),
+        "{text}"
+    );
+    let check = csgkit(&["check", "--json", path.to_str().expect("utf-8")]);
+    let json: serde_json::Value = serde_json::from_slice(&check.stdout).expect("JSON");
+    assert_eq!(
+        (
+            json["vertices"].as_u64(),
+            json["duplicate_vertices"].as_u64()
+        ),
+        (Some(6), Some(2))
+    );
+    assert_eq!(json["boundary_loops"], 1);
+    assert_eq!(code(&check), Some(1));
+}
+
+#[test]
 fn every_subcommand_help_has_an_example() {
     for subcommand in ["info", "check"] {
         let output = csgkit(&[subcommand, "--help"]);

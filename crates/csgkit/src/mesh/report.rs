@@ -85,6 +85,20 @@ impl MeshReport {
 }
 
 /// Welds the mesh and computes every check and measure.
+///
+/// # Example
+/// ```
+/// use csgkit::Mesh;
+///
+/// // A tetrahedron wound outward.
+/// let positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let mesh = Mesh::from_triangles(positions, &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])?;
+/// let report = csgkit::mesh::analyze(&mesh);
+/// assert!(report.is_valid_solid());
+/// assert_eq!(report.topology.genus, Some(0));
+/// assert_eq!(report.measures.volume, 1.0 / 6.0);
+/// # Ok::<(), csgkit::InvalidMesh>(())
+/// ```
 pub fn analyze(mesh: &Mesh) -> MeshReport {
     let welding = super::weld_positions(mesh.positions());
     // Most meshes other than STL have nothing to weld: skip the copy then.
