@@ -48,10 +48,10 @@
 //!
 //! # Algorithm
 //! 1. Mark the faces that take part and the vertices that any face uses.
-//! 2. Emit one record per face side (a *half-edge*: its sorted vertex pair packed in a `u64`,
-//!    and the corners it leaves and enters), grouped by the smaller vertex with a counting
-//!    sort and then sorted by the pair within each group: each run of equal keys is one edge
-//!    with all its uses.
+//! 2. Emit one record per face side (a *half-edge*: the corners it leaves and enters, and a
+//!    key holding the larger vertex and the direction), grouped by the smaller vertex with a
+//!    counting sort and then sorted by key within each group: each run of equal larger
+//!    vertices in a group is one edge with all its uses.
 //! 3. One pass over the runs counts the edge classes and feeds three disjoint-set forests:
 //!    faces (components), corners at each end of the edge (fans) and boundary vertices (loops).
 //! 4. Count the distinct roots: components, fans per vertex, loops; a fourth forest joins the
@@ -60,7 +60,8 @@
 //! # Complexity
 //! O(C + Σ dᵥ log dᵥ) time for C corners, dᵥ being the number of sides whose smaller vertex
 //! is v (a handful on real meshes, so linear in practice), O(C) memory: 16 bytes per
-//! half-edge and 4 per corner, face and vertex. Indices are `u32`, as [`Mesh`] guarantees.
+//! half-edge, 8 per edge and 4 per corner, face and vertex. Indices are `u32`, as [`Mesh`]
+//! guarantees. Half-edges carry their direction, so no pass looks corners up at random.
 
 use serde::Serialize;
 
@@ -146,7 +147,8 @@ pub enum EdgeKind {
 /// One face side: the directed use of an edge.
 #[derive(Clone, Copy, Debug)]
 struct HalfEdge {
-    /// `(min << 32) | max` of the edge's two vertices.
+    /// `(max << 1) | forward`: the edge's larger vertex, and 1 when the side runs from the
+    /// smaller vertex to the larger. The smaller vertex is the group the record sits in.
     key: u64,
     /// The corner the side leaves.
     origin: u32,
@@ -155,12 +157,13 @@ struct HalfEdge {
 }
 
 /// Every edge of a welded mesh with its uses, built once by sorting the face sides.
-pub struct EdgeTable<'m> {
-    /// The mesh's corner buffer, which tells each half-edge's direction.
-    corners: &'m [u32],
-    /// Half-edges sorted by key: edge `e` is `half_edges[starts[e]..starts[e + 1]]`.
+pub struct EdgeTable {
+    /// Half-edges grouped by smaller vertex, then sorted by key: edge `e` is
+    /// `half_edges[starts[e]..starts[e + 1]]`.
     half_edges: Vec<HalfEdge>,
     starts: Vec<u32>,
+    /// The smaller vertex of each edge.
+    smaller: Vec<u32>,
     /// Pairs of consecutive corners of one face at the same vertex (zero-length sides).
     merged_corners: Vec<(u32, u32)>,
     /// Whether each face takes part (has three distinct vertices).
@@ -199,9 +202,9 @@ impl EdgeUses {
     }
 }
 
-impl<'m> EdgeTable<'m> {
+impl EdgeTable {
     /// Builds the table of a mesh whose equal vertices are already welded.
-    pub fn new(mesh: &'m Mesh) -> Self {
+    pub fn new(mesh: &Mesh) -> Self {
         let takes_part: Vec<bool> = mesh.faces().map(has_three_distinct).collect();
         let corners = mesh.corners();
         // Bucket the half-edges by their smaller vertex (a counting sort), then sort each
@@ -232,7 +235,7 @@ impl<'m> EdgeTable<'m> {
                 return;
             }
             let slot = &mut next_slot[v.min(w) as usize];
-            let key = (u64::from(v.min(w)) << 32) | u64::from(v.max(w));
+            let key = (u64::from(v.max(w)) << 1) | u64::from(v < w);
             half_edges[*slot as usize] = HalfEdge {
                 key,
                 origin,
@@ -243,11 +246,11 @@ impl<'m> EdgeTable<'m> {
         for bucket in bucket_starts.windows(2) {
             half_edges[bucket[0] as usize..bucket[1] as usize].sort_unstable_by_key(|h| h.key);
         }
-        let starts = run_starts(&half_edges);
+        let (starts, smaller) = edge_runs(&half_edges, &bucket_starts);
         Self {
-            corners,
             half_edges,
             starts,
+            smaller,
             merged_corners,
             takes_part,
             corner_face: corner_faces(mesh),
@@ -261,30 +264,23 @@ impl<'m> EdgeTable<'m> {
 
     /// Every edge with its use counts, in order of vertex pair.
     pub fn edges(&self) -> impl ExactSizeIterator<Item = EdgeUses> + '_ {
-        self.starts.windows(2).map(|w| {
+        self.starts.windows(2).zip(&self.smaller).map(|(w, &a)| {
             let uses = &self.half_edges[w[0] as usize..w[1] as usize];
-            let key = uses[0].key;
-            let a = (key >> 32) as u32;
-            let forward = uses.iter().filter(|h| self.is_forward(h)).count() as u32;
+            let forward = uses.iter().filter(|h| h.is_forward()).count() as u32;
             EdgeUses {
                 a,
-                b: key as u32,
+                b: (uses[0].key >> 1) as u32,
                 forward,
                 backward: uses.len() as u32 - forward,
             }
         })
     }
 
-    /// Whether a half-edge runs from the edge's smaller vertex to its larger one.
-    fn is_forward(&self, h: &HalfEdge) -> bool {
-        self.corners[h.origin as usize] < self.corners[h.target as usize]
-    }
-
     /// The uses of edge `e` as (corner at the smaller vertex, corner at the larger) pairs.
     fn corner_pairs(&self, e: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
         let uses = &self.half_edges[self.starts[e] as usize..self.starts[e + 1] as usize];
         uses.iter().map(move |h| {
-            if self.is_forward(h) {
+            if h.is_forward() {
                 (h.origin, h.target)
             } else {
                 (h.target, h.origin)
@@ -327,16 +323,31 @@ fn for_each_side(mesh: &Mesh, takes_part: &[bool], mut side: impl FnMut(u32, u32
     }
 }
 
-/// Start of each run of equal keys, plus a final entry equal to the length.
-fn run_starts(half_edges: &[HalfEdge]) -> Vec<u32> {
+impl HalfEdge {
+    /// Whether the side runs from the edge's smaller vertex to its larger one.
+    fn is_forward(&self) -> bool {
+        self.key & 1 == 1
+    }
+}
+
+/// The start of each edge's run of half-edges (plus a final entry equal to the length) and
+/// each edge's smaller vertex: within a vertex's group, a run shares the larger vertex.
+fn edge_runs(half_edges: &[HalfEdge], group_starts: &[u32]) -> (Vec<u32>, Vec<u32>) {
     let mut starts = Vec::with_capacity(half_edges.len() / 2 + 1);
-    for (i, h) in half_edges.iter().enumerate() {
-        if i == 0 || half_edges[i - 1].key != h.key {
-            starts.push(i as u32);
+    let mut smaller = Vec::with_capacity(half_edges.len() / 2);
+    for (v, group) in group_starts.windows(2).enumerate() {
+        let mut previous = None;
+        for i in group[0]..group[1] {
+            let larger = half_edges[i as usize].key >> 1;
+            if previous != Some(larger) {
+                starts.push(i);
+                smaller.push(v as u32);
+                previous = Some(larger);
+            }
         }
     }
     starts.push(half_edges.len() as u32);
-    starts
+    (starts, smaller)
 }
 
 /// The face of each corner, needed only when faces have different sizes.
@@ -475,7 +486,7 @@ struct FanSplit {
 ///
 /// For each vertex the root of its first corner is remembered; a later corner with another
 /// root proves a second fan. Faces are joined through their vertices in a forest of vertices.
-fn split_fans(mesh: &Mesh, table: &EdgeTable<'_>, fans: &mut UnionFind) -> FanSplit {
+fn split_fans(mesh: &Mesh, table: &EdgeTable, fans: &mut UnionFind) -> FanSplit {
     let mut first_root = vec![NO_ROOT; mesh.vertex_count()];
     let mut split = vec![false; mesh.vertex_count()];
     let mut joined = UnionFind::new(mesh.vertex_count());
