@@ -280,6 +280,25 @@ mod tests {
         assert!(report.measures.volume.is_nan());
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+
+        /// Any buffers either fail validation with an error or analyse without a panic.
+        #[test]
+        fn arbitrary_buffers_never_panic(
+            positions in proptest::collection::vec(
+                proptest::array::uniform3(proptest::prelude::any::<f64>()), 0..8),
+            corners in proptest::collection::vec(0u32..10, 0..24),
+            face_starts in proptest::option::of(proptest::collection::vec(0u32..26, 0..8)),
+        ) {
+            let parts = MeshParts { positions, corners, face_starts, ..MeshParts::default() };
+            if let Ok(mesh) = Mesh::from_parts(parts) {
+                let report = mesh.report();
+                proptest::prop_assert!(report.topology.edges <= mesh.corner_count());
+            }
+        }
+    }
+
     #[test]
     fn empty_mesh_reports_zeros() {
         let report = Mesh::new().report();
