@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::commands;
+
 /// Exact boolean operations on 3D solids.
 #[derive(Parser, Debug)]
 #[command(name = "csgkit", version, about, long_about = None)]
@@ -13,10 +15,26 @@ struct Cli {
 }
 
 #[derive(Subcommand, Debug)]
-enum Command {}
+enum Command {
+    /// Print a mesh file's format, counts, bounding box and attributes.
+    #[command(after_help = "Example:\n  csgkit info crates/csgkit/tests/data/cube.obj")]
+    Info(commands::info::InfoArgs),
+    /// Check whether a mesh is a valid solid and print every measure.
+    ///
+    /// Exit status: 0 when the mesh is closed (every edge used as often in each direction)
+    /// and consistently oriented, 1 when it is not, 2 on any error.
+    #[command(
+        after_help = "Examples:\n  csgkit check crates/csgkit/tests/data/cube.obj\n  \
+                            csgkit check --json part.stl"
+    )]
+    Check(commands::check::CheckArgs),
+}
 
 /// Parses the command line and runs the chosen subcommand.
 pub fn run() -> anyhow::Result<ExitCode> {
     let cli = Cli::parse();
-    match cli.command {}
+    match cli.command {
+        Command::Info(args) => commands::info::run(&args),
+        Command::Check(args) => commands::check::run(&args),
+    }
 }

@@ -6,3 +6,5 @@ mod util;
 mod io_formats;
 // Truncated, corrupted and random bytes make no reader panic.
 mod io_fuzz;
+// Every shared data mesh analysed: topology and measures agree with the manifest.
+mod real_data;
