@@ -19,5 +19,6 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 pub mod mesh;
+pub mod ortho;
 
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};

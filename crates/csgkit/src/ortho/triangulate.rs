@@ -1,0 +1,163 @@
+//! Triangulation of faces and mesh assembly (`design/ortho.md` §A6).
+//!
+//! A face is triangulated in its (a, b) frame from its loop vertices only: no Steiner point,
+//! no dropped collinear vertex. Earcut-style libraries drop collinear points, and those are
+//! exactly the conforming vertices that keep the mesh free of T-junctions, so we use spade's
+//! constrained Delaunay triangulation instead:
+//! 1. insert the face's distinct loop vertices, with every loop edge as a constraint
+//!    (`try_bulk_load_cdt`; a conflict is an error, never a panic);
+//! 2. flood-fill from the outer face, flipping inside/outside across constraint edges;
+//! 3. keep the inside triangles, CCW in (a, b), hence CCW seen from outside.
+//!
+//! A face with n loop positions (counting repeats) and h holes gives exactly n + 2h − 2
+//! triangles; the count is checked and a mismatch is an error.
+//!
+//! Numeric model: spade's exact predicates on the input coordinates; no coordinate is created.
+//! Complexity: O(n log n) per face.
+
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use super::{BRep, Face, OrthoError};
+use crate::{FaceId, Mesh, MeshParts, OperandId, Provenance};
+
+/// How [`BRep::to_mesh`] writes faces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MeshOptions {
+    /// Triangulate every face. Otherwise a face without holes is one polygon and only faces
+    /// with holes (or weakly simple loops) are triangulated.
+    pub triangles: bool,
+}
+
+impl BRep {
+    /// The shared-vertex mesh of the boundary: one vertex per B-rep vertex (indexed by exact
+    /// position), faces as polygons or triangles by `options`, each output face's provenance
+    /// naming its B-rep face (operand 0). The mesh is closed: every directed edge has its
+    /// reverse; non-manifold edges carry four faces.
+    ///
+    /// # Errors
+    /// [`OrthoError::Triangulation`] if spade rejects a coordinate (outside its range).
+    pub fn to_mesh(&self, options: MeshOptions) -> Result<Mesh, OrthoError> {
+        let mut corners = Vec::new();
+        let mut starts = vec![0u32];
+        let mut provenance = Vec::new();
+        for (f, face) in self.faces.iter().enumerate() {
+            let tag = Provenance {
+                operand: OperandId::new(0),
+                face: FaceId::new(f),
+            };
+            if !options.triangles && face.holes.is_empty() && is_simple(&face.outer) {
+                corners.extend_from_slice(&face.outer);
+                starts.push(corners.len() as u32);
+                provenance.push(tag);
+                continue;
+            }
+            for t in self.triangulate_face(f)? {
+                corners.extend_from_slice(&t);
+                starts.push(corners.len() as u32);
+                provenance.push(tag);
+            }
+        }
+        let all_triangles = starts.windows(2).all(|w| w[1] - w[0] == 3);
+        let parts = MeshParts {
+            positions: self.vertices.iter().map(|v| v.position).collect(),
+            corners,
+            face_starts: (!all_triangles).then_some(starts),
+            face_provenance: Some(provenance),
+            ..MeshParts::default()
+        };
+        Ok(Mesh::from_parts(parts).expect("B-rep loops index existing vertices"))
+    }
+
+    /// The triangles of face `f` as vertex-index triples, CCW seen from outside.
+    ///
+    /// # Errors
+    /// [`OrthoError::Triangulation`] if spade rejects a coordinate or the result does not have
+    /// n + 2h − 2 triangles.
+    pub fn triangulate_face(&self, f: usize) -> Result<Vec<[u32; 3]>, OrthoError> {
+        let face = &self.faces[f];
+        let fail = |reason: String| OrthoError::Triangulation { face: f, reason };
+        let (ids, cdt) = self.face_cdt(face).map_err(fail)?;
+        let inside = flood_fill(&cdt);
+        let triangles: Vec<[u32; 3]> = cdt
+            .inner_faces()
+            .filter(|t| inside[t.fix().index()])
+            .map(|t| t.vertices().map(|v| ids[v.fix().index()]))
+            .collect();
+        let n: usize = face.holes.iter().map(Vec::len).sum::<usize>() + face.outer.len();
+        let expected = n + 2 * face.holes.len() - 2;
+        if triangles.len() != expected {
+            return Err(fail(format!(
+                "{} triangles instead of n + 2h - 2 = {expected}",
+                triangles.len()
+            )));
+        }
+        Ok(triangles)
+    }
+
+    /// Step 1: the constrained triangulation of a face's loops, with the vertex id of each
+    /// spade vertex index.
+    fn face_cdt(&self, face: &Face) -> Result<(Vec<u32>, Cdt), String> {
+        let (a, b) = face.orientation.frame();
+        let loops = || std::iter::once(&face.outer).chain(&face.holes);
+        let mut ids: Vec<u32> = loops().flatten().copied().collect();
+        ids.sort_unstable();
+        ids.dedup();
+        let local = |v: u32| ids.binary_search(&v).expect("loop vertex was collected");
+        let points = ids
+            .iter()
+            .map(|&v| {
+                let p = self.vertices[v as usize].position;
+                Point2::new(p[a], p[b])
+            })
+            .collect();
+        let edges = loops()
+            .flat_map(|lp| (0..lp.len()).map(|i| [local(lp[i]), local(lp[(i + 1) % lp.len()])]))
+            .collect();
+        let mut conflicts = 0;
+        let cdt = Cdt::try_bulk_load_cdt(points, edges, |_| conflicts += 1)
+            .map_err(|e| format!("{e:?}"))?;
+        if conflicts > 0 || cdt.num_vertices() != ids.len() {
+            return Err("loop edges cross or vertices coincide".into());
+        }
+        Ok((ids, cdt))
+    }
+}
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// Step 2: whether each face (by index) lies inside the loops.
+fn flood_fill(cdt: &Cdt) -> Vec<bool> {
+    let mut inside = vec![false; cdt.num_all_faces()];
+    let mut seen = vec![false; cdt.num_all_faces()];
+    let mut stack = Vec::new();
+    for e in cdt.directed_edges() {
+        if e.face().is_outer() {
+            if let Some(t) = e.rev().face().as_inner() {
+                stack.push((t, e.is_constraint_edge()));
+            }
+        }
+    }
+    while let Some((t, state)) = stack.pop() {
+        let i = t.fix().index();
+        if seen[i] {
+            continue;
+        }
+        seen[i] = true;
+        inside[i] = state;
+        for e in t.adjacent_edges() {
+            if let Some(u) = e.rev().face().as_inner() {
+                if !seen[u.fix().index()] {
+                    stack.push((u, state ^ e.is_constraint_edge()));
+                }
+            }
+        }
+    }
+    inside
+}
+
+/// True if no vertex repeats in the loop (it is simple, not weakly simple).
+fn is_simple(lp: &[u32]) -> bool {
+    let mut sorted = lp.to_vec();
+    sorted.sort_unstable();
+    sorted.windows(2).all(|w| w[0] != w[1])
+}
