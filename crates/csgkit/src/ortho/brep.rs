@@ -162,17 +162,37 @@ fn plane_faces(copies: &[Copy2], o: Orientation) -> Result<Vec<PlaneFace>, Ortho
         // Odd: interior below (−b side... of the a-line) ⇒ the edge runs −a.
         let (lo, hi) = ((e.lo, e.fixed), (e.hi, e.fixed));
         half.push(if odd {
-            HalfEdge { from: hi, to: lo, dir: 2, v_from: e.v_hi }
+            HalfEdge {
+                from: hi,
+                to: lo,
+                dir: 2,
+                v_from: e.v_hi,
+            }
         } else {
-            HalfEdge { from: lo, to: hi, dir: 0, v_from: e.v_lo }
+            HalfEdge {
+                from: lo,
+                to: hi,
+                dir: 0,
+                v_from: e.v_lo,
+            }
         });
     }
     for (e, odd) in b_edges.iter().zip(parities(&b_edges)) {
         let (lo, hi) = ((e.fixed, e.lo), (e.fixed, e.hi));
         half.push(if odd {
-            HalfEdge { from: lo, to: hi, dir: 1, v_from: e.v_lo }
+            HalfEdge {
+                from: lo,
+                to: hi,
+                dir: 1,
+                v_from: e.v_lo,
+            }
         } else {
-            HalfEdge { from: hi, to: lo, dir: 3, v_from: e.v_hi }
+            HalfEdge {
+                from: hi,
+                to: lo,
+                dir: 3,
+                v_from: e.v_hi,
+            }
         });
     }
     half.sort_unstable_by_key(|h| (h.from, h.dir));
@@ -324,7 +344,10 @@ fn assemble_faces(
         let vertices = cycle.iter().map(|&h| half[h as usize].v_from).collect();
         if first.dir == 0 {
             face_of[c] = Some(faces.len());
-            faces.push(PlaneFace { outer: vertices, holes: Vec::new() });
+            faces.push(PlaneFace {
+                outer: vertices,
+                holes: Vec::new(),
+            });
         } else {
             holes.push((first.from, c, vertices));
         }
@@ -346,10 +369,7 @@ fn assemble_faces(
 
 /// Step 7: for each hole (given by its smallest position, sorted), the b-half-edge nearest on
 /// its left: the largest a < a_h whose span [b0, b1) holds b_h.
-fn hole_owners(
-    half: &[HalfEdge],
-    holes: &[((u32, u32), usize, Vec<u32>)],
-) -> Vec<Option<usize>> {
+fn hole_owners(half: &[HalfEdge], holes: &[((u32, u32), usize, Vec<u32>)]) -> Vec<Option<usize>> {
     let mut bs: Vec<u32> = half.iter().flat_map(|h| [h.from.1, h.to.1]).collect();
     bs.sort_unstable();
     bs.dedup();

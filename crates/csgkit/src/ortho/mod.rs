@@ -185,13 +185,21 @@ pub fn rect_union_corners(rects: &[[f64; 4]]) -> Result<Vec<RectCorner>, OrthoEr
     let rects: Vec<rect2d::Rect> = ranked
         .boxes
         .iter()
-        .map(|b| rect2d::Rect { x0: b[0], x1: b[3], y0: b[1], y1: b[4] })
+        .map(|b| rect2d::Rect {
+            x0: b[0],
+            x1: b[3],
+            y0: b[1],
+            y1: b[4],
+        })
         .collect();
     let mut out = Vec::new();
     rect2d::plane_scan(&[], &rects, |x, y, code| {
         let position = ranked.position([x, y, 0]);
         for dirs in rect2d::corner_records(code >> 4) {
-            out.push(RectCorner { position: [position[0], position[1]], dirs });
+            out.push(RectCorner {
+                position: [position[0], position[1]],
+                dirs,
+            });
         }
     });
     Ok(out)
@@ -210,14 +218,20 @@ impl BRep {
                 if lp.len() < 4 {
                     return Err(format!("face {f} has a loop of {} positions", lp.len()));
                 }
-                let Some(p) = lp.iter().map(|&v| self.vertices.get(v as usize)).collect::<Option<Vec<_>>>() else {
+                let Some(p) = lp
+                    .iter()
+                    .map(|&v| self.vertices.get(v as usize))
+                    .collect::<Option<Vec<_>>>()
+                else {
                     return Err(format!("face {f} refers to a missing vertex"));
                 };
                 for i in 0..p.len() {
                     let (u, v) = (p[i].position, p[(i + 1) % p.len()].position);
                     let differ = (0..3).filter(|&j| u[j] != v[j]).count();
                     if u[k] != v[k] || differ != 1 {
-                        return Err(format!("face {f} has a loop edge that is not axis-parallel in its plane"));
+                        return Err(format!(
+                            "face {f} has a loop edge that is not axis-parallel in its plane"
+                        ));
                     }
                 }
             }

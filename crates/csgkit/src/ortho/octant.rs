@@ -236,14 +236,21 @@ mod tests {
             // The complement swaps +/− of every orientation.
             let comp = OCTANT_TABLE[!c as usize];
             for o in 0..6 {
-                assert_eq!(info.corner[o], comp.corner[o ^ 1], "code {c} orientation {o}");
+                assert_eq!(
+                    info.corner[o],
+                    comp.corner[o ^ 1],
+                    "code {c} orientation {o}"
+                );
             }
         }
     }
 
+    /// (occupied octants, class, corner degrees, conforming degrees).
+    type ClassCase = (&'static [(u8, u8, u8)], u8, [u8; 6], [u8; 6]);
+
     #[test]
     fn representatives_have_the_degrees_of_the_design_table() {
-        let cases: [(&[(u8, u8, u8)], u8, [u8; 6], [u8; 6]); 10] = [
+        let cases: [ClassCase; 10] = [
             (&[(0, 0, 0)], 1, [1, 0, 1, 0, 1, 0], [1, 0, 1, 0, 1, 0]),
             (
                 &[(0, 0, 0), (1, 0, 0), (0, 1, 0)],
@@ -257,7 +264,12 @@ mod tests {
                 [0, 1, 0, 1, 1, 0],
                 [2, 1, 2, 1, 1, 0],
             ),
-            (&[(1, 0, 0), (0, 1, 0)], 6, [1, 1, 1, 1, 2, 0], [1, 1, 1, 1, 2, 0]),
+            (
+                &[(1, 0, 0), (0, 1, 0)],
+                6,
+                [1, 1, 1, 1, 2, 0],
+                [1, 1, 1, 1, 2, 0],
+            ),
             (
                 &[(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)],
                 23,
@@ -295,7 +307,11 @@ mod tests {
             assert_eq!(info.class, class, "{octants:?}");
             assert_eq!(info.corner, corner, "{octants:?}");
             assert_eq!(info.degrees(DegreeConvention::Corner), corner);
-            assert_eq!(info.degrees(DegreeConvention::Conforming), conforming, "{octants:?}");
+            assert_eq!(
+                info.degrees(DegreeConvention::Conforming),
+                conforming,
+                "{octants:?}"
+            );
         }
         let h = OCTANT_TABLE[code(&[(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 0, 1)]) as usize];
         assert_eq!(h.degrees(DegreeConvention::Seed), [1, 1, 2, 0, 2, 0]);

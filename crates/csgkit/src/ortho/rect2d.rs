@@ -57,8 +57,20 @@ pub(crate) fn plane_scan(below: &[Rect], above: &[Rect], mut emit: impl FnMut(u3
     for (set, rects) in [below, above].into_iter().enumerate() {
         for r in rects {
             let (l, rr) = (local(r.x0), local(r.x1));
-            events.push(Event { y: r.y0, set, l, r: rr, delta: 1 });
-            events.push(Event { y: r.y1, set, l, r: rr, delta: -1 });
+            events.push(Event {
+                y: r.y0,
+                set,
+                l,
+                r: rr,
+                delta: 1,
+            });
+            events.push(Event {
+                y: r.y1,
+                set,
+                l,
+                r: rr,
+                delta: -1,
+            });
         }
     }
     events.sort_unstable_by_key(|e| (e.y, e.l, e.r));
@@ -87,7 +99,8 @@ impl ScanLine {
     /// Steps 3–5 at one y: fills `found` with (local x, code) of every candidate.
     fn process(&mut self, group: &[Event], trees: &mut [Coverage; 2], leaves: usize) {
         self.merge_extents(group);
-        self.runs.resize_with(self.intervals.len(), Default::default);
+        self.runs
+            .resize_with(self.intervals.len(), Default::default);
         self.read_runs(trees, leaves, 0);
         for e in group {
             trees[e.set].add(e.l as usize, e.r as usize, e.delta);
@@ -99,7 +112,8 @@ impl ScanLine {
             self.candidates.clear();
             for list in runs {
                 for &(s, e) in list {
-                    self.candidates.extend([s, e].into_iter().filter(|x| (a..=b).contains(x)));
+                    self.candidates
+                        .extend([s, e].into_iter().filter(|x| (a..=b).contains(x)));
                 }
             }
             self.candidates.sort_unstable();

@@ -70,7 +70,12 @@ fn slab_rects(boxes: &RankedBoxes) -> Vec<Vec<Rect>> {
 }
 
 /// Step 3 for one plane.
-fn plane_vertices(below: &[Rect], above: &[Rect], z: u32, convention: DegreeConvention) -> Vec<RankVertex> {
+fn plane_vertices(
+    below: &[Rect],
+    above: &[Rect],
+    z: u32,
+    convention: DegreeConvention,
+) -> Vec<RankVertex> {
     let mut out = Vec::new();
     plane_scan(below, above, |x, y, code| {
         let info = OCTANT_TABLE[code as usize];
