@@ -61,12 +61,55 @@ struct Expected {
     t: usize,
     vol: f64,
     special: &'static [([i32; 3], &'static str)],
+    comp: usize,
+    chi: i64,
+}
+
+/// Components and Euler characteristic of a 2-manifold triangle mesh, after checking every
+/// undirected edge has exactly two triangles with opposite directions.
+fn manifold_components_and_chi(mesh: &Mesh) -> (usize, i64) {
+    let mut edges: HashMap<(u32, u32), Vec<(usize, bool)>> = HashMap::new();
+    for (t, face) in mesh.faces().enumerate() {
+        for i in 0..3 {
+            let (u, v) = (face[i], face[(i + 1) % 3]);
+            edges
+                .entry((u.min(v), u.max(v)))
+                .or_default()
+                .push((t, u < v));
+        }
+    }
+    let mut parent: Vec<usize> = (0..mesh.face_count()).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            x = p[x];
+        }
+        x
+    }
+    for uses in edges.values() {
+        assert_eq!(uses.len(), 2, "manifold edges carry two triangles");
+        assert_ne!(
+            uses[0].1, uses[1].1,
+            "manifold edges are consistently oriented"
+        );
+        let (a, b) = (find(&mut parent, uses[0].0), find(&mut parent, uses[1].0));
+        parent[a.max(b)] = a.min(b);
+    }
+    let comps = (0..parent.len())
+        .filter(|&t| find(&mut parent, t) == t)
+        .count();
+    let mut used: Vec<u32> = mesh.corners().to_vec();
+    used.sort_unstable();
+    used.dedup();
+    let chi = used.len() as i64 - edges.len() as i64 + mesh.face_count() as i64;
+    (comps, chi)
 }
 
 const CASES: [(&str, Expected); 10] = [
     (
         "E1",
         Expected {
+            comp: 1,
+            chi: 2,
             boxes: &[[0, 1, 0, 1, 0, 1]],
             v: 8,
             f: 6,
@@ -81,6 +124,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E2",
         Expected {
+            comp: 2,
+            chi: 4,
             boxes: &[[0, 1, 0, 1, 0, 1], [1, 2, 1, 2, 0, 1]],
             v: 14,
             f: 12,
@@ -110,6 +155,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E3",
         Expected {
+            comp: 2,
+            chi: 4,
             boxes: &[[0, 1, 0, 1, 0, 1], [1, 2, 1, 2, 1, 2]],
             v: 15,
             f: 12,
@@ -124,6 +171,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E4",
         Expected {
+            comp: 1,
+            chi: 2,
             boxes: &[[0, 2, 0, 1, 0, 1], [0, 1, 1, 2, 0, 1]],
             v: 12,
             f: 8,
@@ -138,6 +187,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E5",
         Expected {
+            comp: 1,
+            chi: 2,
             boxes: &[[0, 2, 0, 2, 0, 1], [1, 3, 1, 3, 1, 2]],
             v: 18,
             f: 12,
@@ -157,6 +208,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E6",
         Expected {
+            comp: 1,
+            chi: 2,
             boxes: &[[0, 3, 1, 2, 0, 1], [1, 2, 0, 3, 1, 2]],
             v: 20,
             f: 14,
@@ -176,6 +229,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E7",
         Expected {
+            comp: 1,
+            chi: 2,
             boxes: &[[1, 2, 1, 2, 0, 1], [0, 2, 1, 2, 1, 2], [1, 2, 0, 2, 1, 2]],
             v: 17,
             f: 12,
@@ -190,6 +245,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E8",
         Expected {
+            comp: 2,
+            chi: 4,
             boxes: &[[0, 2, 0, 1, 0, 1], [0, 1, 1, 2, 1, 2]],
             v: 15,
             f: 12,
@@ -204,6 +261,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E9",
         Expected {
+            comp: 1,
+            chi: 0,
             boxes: &[
                 [0, 3, 0, 1, 0, 1],
                 [0, 3, 2, 3, 0, 1],
@@ -223,6 +282,8 @@ const CASES: [(&str, Expected); 10] = [
     (
         "E10",
         Expected {
+            comp: 4,
+            chi: 8,
             boxes: &[
                 [0, 1, 0, 1, 0, 1],
                 [1, 2, 1, 2, 0, 1],
@@ -264,7 +325,13 @@ fn design_vectors_e1_to_e10() {
         let holes: usize = brep.faces.iter().map(|f| f.holes.len()).sum();
         let nm = edges.values().filter(|&&n| n == 4).count();
         assert!(edges.values().all(|&n| n == 2 || n == 4), "{name}");
-        let tri = brep.to_mesh(MeshOptions { triangles: true }).unwrap();
+        let tri = brep
+            .to_mesh(MeshOptions {
+                triangles: true,
+                manifold: false,
+            })
+            .unwrap()
+            .mesh;
         let got = (
             brep.vertices.len(),
             brep.faces.len(),
@@ -279,7 +346,24 @@ fn design_vectors_e1_to_e10() {
             "{name} V/F/H/E(nm)/T"
         );
         assert_eq!(closed_six_volume(&tri), 6.0 * ex.vol, "{name} volume");
-        let poly = brep.to_mesh(MeshOptions::default()).unwrap();
+        let manifold = brep
+            .to_mesh(MeshOptions {
+                triangles: true,
+                manifold: true,
+            })
+            .unwrap();
+        assert_eq!(manifold.unsplit_edges, 0);
+        assert_eq!(
+            manifold_components_and_chi(&manifold.mesh),
+            (ex.comp, ex.chi),
+            "{name} comp, chi"
+        );
+        assert_eq!(
+            closed_six_volume(&manifold.mesh),
+            6.0 * ex.vol,
+            "{name} manifold volume"
+        );
+        let poly = brep.to_mesh(MeshOptions::default()).unwrap().mesh;
         assert_eq!(
             closed_six_volume(&poly),
             6.0 * ex.vol,
@@ -408,6 +492,12 @@ fn rectangle_vector_r6_gives_one_weakly_simple_loop() {
         .position(|v| v.position == [2.0, 2.0, 1.0])
         .unwrap() as u32;
     assert_eq!(top[0].outer.iter().filter(|&&v| v == pinch).count(), 2);
-    let tri = brep.to_mesh(MeshOptions { triangles: true }).unwrap();
+    let tri = brep
+        .to_mesh(MeshOptions {
+            triangles: true,
+            manifold: false,
+        })
+        .unwrap()
+        .mesh;
     assert_eq!(closed_six_volume(&tri), 6.0 * 7.0);
 }

@@ -209,6 +209,23 @@ fn closed_six_volume(mesh: &Mesh) -> f64 {
         .sum()
 }
 
+/// Checks every undirected edge has two triangles and χ is even.
+fn assert_even_chi_two_per_edge(mesh: &Mesh) {
+    let mut edges: HashMap<(u32, u32), usize> = HashMap::new();
+    for face in mesh.faces() {
+        for i in 0..3 {
+            let (u, v) = (face[i], face[(i + 1) % 3]);
+            *edges.entry((u.min(v), u.max(v))).or_insert(0) += 1;
+        }
+    }
+    assert!(edges.values().all(|&n| n == 2), "two triangles per edge");
+    let mut used = mesh.corners().to_vec();
+    used.sort_unstable();
+    used.dedup();
+    let chi = used.len() as i64 - edges.len() as i64 + mesh.face_count() as i64;
+    assert_eq!(chi % 2, 0, "even Euler characteristic");
+}
+
 /// Checks a box set against the oracle: vertices and codes, faces and areas, loop pairing,
 /// triangle count, closedness and volume.
 fn check_against_oracle(boxes: &[[f64; 6]]) {
@@ -237,7 +254,13 @@ fn check_against_oracle(boxes: &[[f64; 6]]) {
         edges.values().all(|&b| b == 0),
         "loops are edge-paired in {boxes:?}"
     );
-    let tri = brep.to_mesh(MeshOptions { triangles: true }).unwrap();
+    let tri = brep
+        .to_mesh(MeshOptions {
+            triangles: true,
+            manifold: false,
+        })
+        .unwrap()
+        .mesh;
     let expected: usize = brep
         .faces
         .iter()
@@ -248,7 +271,16 @@ fn check_against_oracle(boxes: &[[f64; 6]]) {
     assert_eq!(tri.face_count(), expected);
     let volume = grid.volume();
     assert_eq!(closed_six_volume(&tri), 6.0 * volume, "volume of {boxes:?}");
-    let poly = brep.to_mesh(MeshOptions::default()).unwrap();
+    let manifold = brep
+        .to_mesh(MeshOptions {
+            triangles: true,
+            manifold: true,
+        })
+        .unwrap();
+    assert_eq!(manifold.unsplit_edges, 0);
+    assert_even_chi_two_per_edge(&manifold.mesh);
+    assert_eq!(closed_six_volume(&manifold.mesh), 6.0 * volume);
+    let poly = brep.to_mesh(MeshOptions::default()).unwrap().mesh;
     assert_eq!(closed_six_volume(&poly), 6.0 * volume);
 }
 

@@ -35,6 +35,7 @@
 mod brep;
 mod coverage;
 mod grid;
+mod manifold;
 mod octant;
 mod rect2d;
 mod sweep;
@@ -42,7 +43,7 @@ mod triangulate;
 
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
-pub use triangulate::MeshOptions;
+pub use triangulate::{MeshOptions, MeshOutput};
 
 use grid::RankedBoxes;
 

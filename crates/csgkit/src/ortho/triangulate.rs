@@ -17,6 +17,7 @@
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
+use super::manifold::TriangleSoup;
 use super::{BRep, Face, OrthoError};
 use crate::{FaceId, Mesh, MeshParts, OperandId, Provenance};
 
@@ -26,6 +27,19 @@ pub struct MeshOptions {
     /// Triangulate every face. Otherwise a face without holes is one polygon and only faces
     /// with holes (or weakly simple loops) are triangulated.
     pub triangles: bool,
+    /// Split non-manifold edges and vertices into a 2-manifold (implies `triangles`); see
+    /// the `manifold` stage.
+    pub manifold: bool,
+}
+
+/// A mesh built from a [`BRep`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshOutput {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// In manifold mode, non-manifold edges left shared because f64 holds no value strictly
+    /// between their endpoints (always 0 otherwise).
+    pub unsplit_edges: usize,
 }
 
 impl BRep {
@@ -36,7 +50,10 @@ impl BRep {
     ///
     /// # Errors
     /// [`OrthoError::Triangulation`] if spade rejects a coordinate (outside its range).
-    pub fn to_mesh(&self, options: MeshOptions) -> Result<Mesh, OrthoError> {
+    pub fn to_mesh(&self, options: MeshOptions) -> Result<MeshOutput, OrthoError> {
+        if options.manifold {
+            return self.to_manifold_mesh();
+        }
         let mut corners = Vec::new();
         let mut starts = vec![0u32];
         let mut provenance = Vec::new();
@@ -65,7 +82,49 @@ impl BRep {
             face_provenance: Some(provenance),
             ..MeshParts::default()
         };
-        Ok(Mesh::from_parts(parts).expect("B-rep loops index existing vertices"))
+        let mesh = Mesh::from_parts(parts).expect("B-rep loops index existing vertices");
+        Ok(MeshOutput {
+            mesh,
+            unsplit_edges: 0,
+        })
+    }
+
+    /// The 2-manifold triangle mesh (`manifold` stage).
+    fn to_manifold_mesh(&self) -> Result<MeshOutput, OrthoError> {
+        let mut soup = TriangleSoup {
+            positions: self.vertices.iter().map(|v| v.position).collect(),
+            triangles: Vec::new(),
+            normals: Vec::new(),
+            sources: Vec::new(),
+        };
+        for (f, face) in self.faces.iter().enumerate() {
+            let triangles = self.triangulate_face(f)?;
+            soup.normals
+                .extend(std::iter::repeat_n(face.orientation, triangles.len()));
+            soup.sources
+                .extend(std::iter::repeat_n(f as u32, triangles.len()));
+            soup.triangles.extend(triangles);
+        }
+        let unsplit_edges = soup.make_manifold();
+        let provenance = soup
+            .sources
+            .iter()
+            .map(|&f| Provenance {
+                operand: OperandId::new(0),
+                face: FaceId::new(f as usize),
+            })
+            .collect();
+        let parts = MeshParts {
+            positions: soup.positions,
+            corners: soup.triangles.into_iter().flatten().collect(),
+            face_provenance: Some(provenance),
+            ..MeshParts::default()
+        };
+        let mesh = Mesh::from_parts(parts).expect("the split keeps indices in range");
+        Ok(MeshOutput {
+            mesh,
+            unsplit_edges,
+        })
     }
 
     /// The triangles of face `f` as vertex-index triples, CCW seen from outside.
