@@ -40,10 +40,12 @@ mod octant;
 mod rect2d;
 mod sweep;
 mod triangulate;
+mod vox;
 
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
 pub use triangulate::{MeshOptions, MeshOutput};
+pub use vox::{VoxBoxes, VoxOptions, read_vox};
 
 use grid::RankedBoxes;
 
@@ -67,6 +69,14 @@ pub enum OrthoError {
         orientation: Orientation,
         /// What went wrong.
         reason: &'static str,
+    },
+    /// A `.vox` file is malformed.
+    #[error("malformed .vox data at byte {offset}: {reason}")]
+    Vox {
+        /// The byte offset in the file.
+        offset: usize,
+        /// What is wrong.
+        reason: String,
     },
     /// The triangulation of a face failed, e.g. for coordinates outside spade's range.
     #[error("face {face} cannot be triangulated: {reason}")]
