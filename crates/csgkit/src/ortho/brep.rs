@@ -105,31 +105,47 @@ struct Copy2 {
 pub(crate) fn extract_faces(
     vertices: &[RankVertex],
 ) -> Result<Vec<(Orientation, PlaneFace)>, OrthoError> {
+    let per_orientation: Vec<Vec<Copy2>> = Orientation::ALL
+        .par_iter()
+        .map(|&o| face_copies(vertices, o))
+        .collect();
+    // Every (orientation, plane) is independent: one parallel task each, results in order.
+    let planes: Vec<(Orientation, &[Copy2])> = Orientation::ALL
+        .iter()
+        .zip(&per_orientation)
+        .flat_map(|(&o, copies)| {
+            copies
+                .chunk_by(|x, y| x.plane == y.plane)
+                .map(move |p| (o, p))
+        })
+        .collect();
+    let per_plane: Vec<Result<Vec<PlaneFace>, OrthoError>> =
+        planes.par_iter().map(|&(o, p)| plane_faces(p, o)).collect();
     let mut faces = Vec::new();
-    for o in Orientation::ALL {
-        let (k, (a, b)) = (o.axis(), o.frame());
-        let mut copies: Vec<Copy2> = vertices
-            .iter()
-            .enumerate()
-            .flat_map(|(i, v)| {
-                let c = Copy2 {
-                    plane: v.rank[k],
-                    b: v.rank[b],
-                    a: v.rank[a],
-                    vertex: i as u32,
-                };
-                std::iter::repeat_n(c, v.degrees[o.index()].into())
-            })
-            .collect();
-        copies.sort_unstable();
-        let planes: Vec<&[Copy2]> = copies.chunk_by(|x, y| x.plane == y.plane).collect();
-        let per_plane: Vec<Result<Vec<PlaneFace>, OrthoError>> =
-            planes.par_iter().map(|p| plane_faces(p, o)).collect();
-        for result in per_plane {
-            faces.extend(result?.into_iter().map(|f| (o, f)));
-        }
+    for ((o, _), result) in planes.iter().zip(per_plane) {
+        faces.extend(result?.into_iter().map(|f| (*o, f)));
     }
     Ok(faces)
+}
+
+/// Steps 1–2: the copies of every vertex for orientation `o`, sorted by (plane, b, a).
+fn face_copies(vertices: &[RankVertex], o: Orientation) -> Vec<Copy2> {
+    let (k, (a, b)) = (o.axis(), o.frame());
+    let mut copies: Vec<Copy2> = vertices
+        .iter()
+        .enumerate()
+        .flat_map(|(i, v)| {
+            let c = Copy2 {
+                plane: v.rank[k],
+                b: v.rank[b],
+                a: v.rank[a],
+                vertex: i as u32,
+            };
+            std::iter::repeat_n(c, v.degrees[o.index()].into())
+        })
+        .collect();
+    copies.sort_unstable();
+    copies
 }
 
 /// An edge on a line: `fixed` is the line's coordinate, `[lo, hi]` the span.

@@ -37,6 +37,7 @@ mod coverage;
 mod grid;
 mod manifold;
 mod octant;
+mod random;
 mod rect2d;
 mod sweep;
 mod triangulate;
@@ -44,6 +45,7 @@ mod vox;
 
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
+pub use random::random_grid_boxes;
 pub use triangulate::{MeshOptions, MeshOutput};
 pub use vox::{VoxBoxes, VoxOptions, read_vox};
 

@@ -15,6 +15,7 @@
 //! Numeric model: spade's exact predicates on the input coordinates; no coordinate is created.
 //! Complexity: O(n log n) per face.
 
+use rayon::prelude::*;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::manifold::TriangleSoup;
@@ -54,22 +55,32 @@ impl BRep {
         if options.manifold {
             return self.to_manifold_mesh();
         }
+        // Faces are independent: triangulate in parallel, concatenate in face order.
+        let per_face: Vec<Result<Vec<Vec<u32>>, OrthoError>> = (0..self.faces.len())
+            .into_par_iter()
+            .map(|f| {
+                let face = &self.faces[f];
+                if !options.triangles && face.holes.is_empty() && is_simple(&face.outer) {
+                    Ok(vec![face.outer.clone()])
+                } else {
+                    Ok(self
+                        .triangulate_face(f)?
+                        .into_iter()
+                        .map(Vec::from)
+                        .collect())
+                }
+            })
+            .collect();
         let mut corners = Vec::new();
         let mut starts = vec![0u32];
         let mut provenance = Vec::new();
-        for (f, face) in self.faces.iter().enumerate() {
+        for (f, polygons) in per_face.into_iter().enumerate() {
             let tag = Provenance {
                 operand: OperandId::new(0),
                 face: FaceId::new(f),
             };
-            if !options.triangles && face.holes.is_empty() && is_simple(&face.outer) {
-                corners.extend_from_slice(&face.outer);
-                starts.push(corners.len() as u32);
-                provenance.push(tag);
-                continue;
-            }
-            for t in self.triangulate_face(f)? {
-                corners.extend_from_slice(&t);
+            for polygon in polygons? {
+                corners.extend_from_slice(&polygon);
                 starts.push(corners.len() as u32);
                 provenance.push(tag);
             }
@@ -97,10 +108,16 @@ impl BRep {
             normals: Vec::new(),
             sources: Vec::new(),
         };
-        for (f, face) in self.faces.iter().enumerate() {
-            let triangles = self.triangulate_face(f)?;
-            soup.normals
-                .extend(std::iter::repeat_n(face.orientation, triangles.len()));
+        let per_face: Vec<Result<Vec<[u32; 3]>, OrthoError>> = (0..self.faces.len())
+            .into_par_iter()
+            .map(|f| self.triangulate_face(f))
+            .collect();
+        for (f, triangles) in per_face.into_iter().enumerate() {
+            let triangles = triangles?;
+            soup.normals.extend(std::iter::repeat_n(
+                self.faces[f].orientation,
+                triangles.len(),
+            ));
             soup.sources
                 .extend(std::iter::repeat_n(f as u32, triangles.len()));
             soup.triangles.extend(triangles);
