@@ -35,7 +35,7 @@ pub(crate) struct Rect {
 #[derive(Clone, Copy)]
 struct Event {
     y: u32,
-    set: usize,
+    layer: usize,
     l: u32,
     r: u32,
     delta: i32,
@@ -45,42 +45,39 @@ struct Event {
 /// and `above`, in (y, x) order, with its octant code (bit `sx | sy << 1 | sz << 2`, where
 /// `sz = 0` reads `below`). The caller filters the codes through the octant table.
 pub(crate) fn plane_scan(below: &[Rect], above: &[Rect], mut emit: impl FnMut(u32, u32, u8)) {
-    let mut xs: Vec<u32> = below
+    scan_layers(&[below, above], |x, y, masks| emit(x, y, masks[0] | masks[1] << 4));
+}
+
+/// The scan over any number of rectangle layers, each with its own coverage tree. For every
+/// candidate (a run end of some layer lying in `X_y`) `emit` receives one 4-bit mask per
+/// layer: bit `sx | sy << 1` set iff the quadrant on side (sx, sy) of the point is covered by
+/// that layer.
+pub(crate) fn scan_layers(layers: &[&[Rect]], mut emit: impl FnMut(u32, u32, &[u8])) {
+    let mut xs: Vec<u32> = layers
         .iter()
-        .chain(above)
+        .flat_map(|l| l.iter())
         .flat_map(|r| [r.x0, r.x1])
         .collect();
     xs.sort_unstable();
     xs.dedup();
     let local = |x: u32| xs.partition_point(|&v| v < x) as u32;
-    let mut events = Vec::with_capacity(2 * (below.len() + above.len()));
-    for (set, rects) in [below, above].into_iter().enumerate() {
-        for r in rects {
+    let mut events = Vec::with_capacity(2 * layers.iter().map(|l| l.len()).sum::<usize>());
+    for (layer, rects) in layers.iter().enumerate() {
+        for r in rects.iter() {
             let (l, rr) = (local(r.x0), local(r.x1));
-            events.push(Event {
-                y: r.y0,
-                set,
-                l,
-                r: rr,
-                delta: 1,
-            });
-            events.push(Event {
-                y: r.y1,
-                set,
-                l,
-                r: rr,
-                delta: -1,
-            });
+            for (y, delta) in [(r.y0, 1), (r.y1, -1)] {
+                events.push(Event { y, layer, l, r: rr, delta });
+            }
         }
     }
     events.sort_unstable_by_key(|e| (e.y, e.l, e.r));
     let leaves = xs.len().saturating_sub(1);
-    let mut trees = [Coverage::new(leaves), Coverage::new(leaves)];
+    let mut trees: Vec<Coverage> = layers.iter().map(|_| Coverage::new(leaves)).collect();
     let mut line = ScanLine::default();
     for group in events.chunk_by(|a, b| a.y == b.y) {
         line.process(group, &mut trees, leaves);
-        for &(x, code) in &line.found {
-            emit(xs[x as usize], group[0].y, code);
+        for (x, masks) in line.candidates.iter().zip(line.masks.chunks_exact(layers.len())) {
+            emit(xs[*x as usize], group[0].y, masks);
         }
     }
 }
@@ -89,37 +86,47 @@ pub(crate) fn plane_scan(below: &[Rect], above: &[Rect], mut emit: impl FnMut(u3
 #[derive(Default)]
 struct ScanLine {
     intervals: Vec<(u32, u32)>,
-    /// Runs per (interval, list), the lists being B−, A−, B+, A+.
-    runs: Vec<[Vec<(u32, u32)>; 4]>,
+    /// Runs per (interval, list): list `2t` is layer t before the line's events, `2t + 1`
+    /// after.
+    runs: Vec<Vec<Vec<(u32, u32)>>>,
     candidates: Vec<u32>,
-    found: Vec<(u32, u8)>,
+    /// One mask per (candidate, layer).
+    masks: Vec<u8>,
 }
 
 impl ScanLine {
-    /// Steps 3–5 at one y: fills `found` with (local x, code) of every candidate.
-    fn process(&mut self, group: &[Event], trees: &mut [Coverage; 2], leaves: usize) {
+    /// Steps 3–5 at one y: fills `candidates` (local x) and their `masks`.
+    fn process(&mut self, group: &[Event], trees: &mut [Coverage], leaves: usize) {
         self.merge_extents(group);
-        self.runs
-            .resize_with(self.intervals.len(), Default::default);
+        let lists = 2 * trees.len();
+        if self.runs.len() < self.intervals.len() {
+            self.runs.resize_with(self.intervals.len(), Vec::new);
+        }
+        self.runs.iter_mut().for_each(|r| r.resize_with(lists, Vec::new));
         self.read_runs(trees, leaves, 0);
         for e in group {
-            trees[e.set].add(e.l as usize, e.r as usize, e.delta);
+            trees[e.layer].add(e.l as usize, e.r as usize, e.delta);
         }
-        self.read_runs(trees, leaves, 2);
-        self.found.clear();
+        self.read_runs(trees, leaves, 1);
+        self.candidates.clear();
+        self.masks.clear();
         for (i, &(a, b)) in self.intervals.iter().enumerate() {
-            let runs = &self.runs[i];
-            self.candidates.clear();
-            for list in runs {
-                for &(s, e) in list {
-                    self.candidates
-                        .extend([s, e].into_iter().filter(|x| (a..=b).contains(x)));
+            let runs = &self.runs[i][..lists];
+            let first = self.candidates.len();
+            for &(s, e) in runs.iter().flatten() {
+                self.candidates.extend([s, e].into_iter().filter(|x| (a..=b).contains(x)));
+            }
+            self.candidates[first..].sort_unstable();
+            let mut kept = first;
+            for j in first..self.candidates.len() {
+                if j == first || self.candidates[j] != self.candidates[kept - 1] {
+                    self.candidates[kept] = self.candidates[j];
+                    kept += 1;
                 }
             }
-            self.candidates.sort_unstable();
-            self.candidates.dedup();
-            for &x in &self.candidates {
-                self.found.push((x, octant_code(runs, x)));
+            self.candidates.truncate(kept);
+            for &x in &self.candidates[first..] {
+                self.masks.extend(runs.chunks_exact(2).map(|pair| quadrant_mask(pair, x)));
             }
         }
     }
@@ -136,13 +143,13 @@ impl ScanLine {
         }
     }
 
-    /// Reads the runs of both trees overlapping each interval into lists `first`, `first + 1`.
-    fn read_runs(&mut self, trees: &[Coverage; 2], leaves: usize, first: usize) {
+    /// Reads the runs of every tree overlapping each interval into lists `2t + after`.
+    fn read_runs(&mut self, trees: &[Coverage], leaves: usize, after: usize) {
         for (i, &(a, b)) in self.intervals.iter().enumerate() {
             // Leaves a−1 ..= b hold every run with an end in [a, b].
             let (lo, hi) = ((a as usize).saturating_sub(1), (b as usize + 1).min(leaves));
             for (t, tree) in trees.iter().enumerate() {
-                let list = &mut self.runs[i][first + t];
+                let list = &mut self.runs[i][2 * t + after];
                 list.clear();
                 tree.runs_overlapping(lo, hi, list);
             }
@@ -156,19 +163,18 @@ fn in_runs(runs: &[(u32, u32)], leaf: i64) -> bool {
     i > 0 && i64::from(runs[i - 1].1) > leaf
 }
 
-/// The octant code at point x from the run lists B−, A−, B+, A+.
-fn octant_code(runs: &[Vec<(u32, u32)>; 4], x: u32) -> u8 {
+/// The 4-bit quadrant mask at point x from one layer's run lists (before, after the line).
+fn quadrant_mask(pair: &[Vec<(u32, u32)>], x: u32) -> u8 {
     let x = i64::from(x);
-    let mut code = 0u8;
-    // (list, sy, sz) for B−, A−, B+, A+.
-    for (list, sy, sz) in [(0, 0, 0), (1, 0, 1), (2, 1, 0), (3, 1, 1)] {
+    let mut mask = 0u8;
+    for (sy, list) in pair.iter().enumerate() {
         for (sx, leaf) in [(0, x - 1), (1, x)] {
-            if in_runs(&runs[list], leaf) {
-                code |= 1 << (sx | sy << 1 | sz << 2);
+            if in_runs(list, leaf) {
+                mask |= 1 << (sx | sy << 1);
             }
         }
     }
-    code
+    mask
 }
 
 /// The 2D corner records of a 4-bit quadrant code (bit `sx | sy << 1`), as outward-normal
