@@ -4,7 +4,10 @@
 use std::collections::HashMap;
 
 use csgkit::Mesh;
-use csgkit::ortho::{BRep, MeshOptions, OCTANT_TABLE, Orientation, box_union};
+use csgkit::ortho::{
+    BRep, MeshOptions, OCTANT_TABLE, Orientation, box_union, box_union_per_material,
+    box_union_with_materials,
+};
 
 /// A xorshift generator: fixed seeds make every case reproducible.
 struct Rng(u64);
@@ -21,11 +24,18 @@ impl Rng {
 /// The occupancy grid of a box set over its compressed coordinates.
 struct Grid {
     coords: [Vec<f64>; 3],
-    cells: Vec<bool>,
+    /// The material of each cell (the smallest of the boxes covering it), or `EMPTY`.
+    cells: Vec<u32>,
 }
+
+const EMPTY: u32 = u32::MAX;
 
 impl Grid {
     fn new(boxes: &[[f64; 6]]) -> Self {
+        Self::with_materials(boxes, &vec![0; boxes.len()])
+    }
+
+    fn with_materials(boxes: &[[f64; 6]], materials: &[u32]) -> Self {
         let coords: [Vec<f64>; 3] = std::array::from_fn(|k| {
             let mut v: Vec<f64> = boxes.iter().flat_map(|b| [b[k], b[k + 3]]).collect();
             v.sort_by(f64::total_cmp);
@@ -33,14 +43,15 @@ impl Grid {
             v
         });
         let n = coords.each_ref().map(|c| c.len().saturating_sub(1));
-        let mut cells = vec![false; n[0] * n[1] * n[2]];
-        for b in boxes {
+        let mut cells = vec![EMPTY; n[0] * n[1] * n[2]];
+        for (b, &m) in boxes.iter().zip(materials) {
             let r: [usize; 6] =
                 std::array::from_fn(|i| coords[i % 3].partition_point(|&c| c < b[i]));
             for z in r[2]..r[5] {
                 for y in r[1]..r[4] {
                     for x in r[0]..r[3] {
-                        cells[(z * n[1] + y) * n[0] + x] = true;
+                        let cell = &mut cells[(z * n[1] + y) * n[0] + x];
+                        *cell = (*cell).min(m);
                     }
                 }
             }
@@ -48,12 +59,16 @@ impl Grid {
         Self { coords, cells }
     }
 
-    fn occupied(&self, c: [i64; 3]) -> bool {
+    fn material(&self, c: [i64; 3]) -> u32 {
         let n = self.coords.each_ref().map(|c| c.len() as i64 - 1);
         if (0..3).any(|k| c[k] < 0 || c[k] >= n[k]) {
-            return false;
+            return EMPTY;
         }
         self.cells[((c[2] * n[1] + c[1]) * n[0] + c[0]) as usize]
+    }
+
+    fn occupied(&self, c: [i64; 3]) -> bool {
+        self.material(c) != EMPTY
     }
 
     /// Every grid point with a vertex code: (position, code), sorted by (z, y, x).
@@ -87,7 +102,7 @@ impl Grid {
         for z in 0..n[2] {
             for y in 0..n[1] {
                 for x in 0..n[0] {
-                    if self.cells[(z * n[1] + y) * n[0] + x] {
+                    if self.cells[(z * n[1] + y) * n[0] + x] != EMPTY {
                         v += size(0, x) * size(1, y) * size(2, z);
                     }
                 }
@@ -96,31 +111,33 @@ impl Grid {
         v
     }
 
-    /// Per (orientation, plane coordinate): the sorted areas of the 4-connected components of
-    /// boundary cells.
-    fn faces(&self) -> HashMap<(Orientation, u64), Vec<f64>> {
-        let mut out: HashMap<(Orientation, u64), Vec<f64>> = HashMap::new();
+    /// Per (orientation, plane coordinate, material): the sorted areas of the 4-connected
+    /// components of boundary cells of that material.
+    fn faces(&self) -> HashMap<FaceKey, Vec<f64>> {
+        let mut out: HashMap<FaceKey, Vec<f64>> = HashMap::new();
         for o in Orientation::ALL {
             let (k, (a, b)) = (o.axis(), o.frame());
             let (na, nb) = (self.coords[a].len() - 1, self.coords[b].len() - 1);
             for c in 0..self.coords[k].len() {
-                let face_cell = |i: usize, j: usize| {
+                // The material of the face on cell (i, j), or EMPTY.
+                let face_material = |i: usize, j: usize| {
                     let mut lo = [0i64; 3];
                     lo[a] = i as i64;
                     lo[b] = j as i64;
                     lo[k] = c as i64 - 1;
                     let mut hi = lo;
                     hi[k] = c as i64;
-                    let (neg, pos) = (self.occupied(lo), self.occupied(hi));
-                    if o.is_positive() {
-                        neg && !pos
+                    let (inner, outer) = if o.is_positive() { (lo, hi) } else { (hi, lo) };
+                    if self.occupied(outer) {
+                        EMPTY
                     } else {
-                        pos && !neg
+                        self.material(inner)
                     }
                 };
                 let mut seen = vec![false; na * nb];
                 for start in 0..na * nb {
-                    if seen[start] || !face_cell(start % na, start / na) {
+                    let m = face_material(start % na, start / na);
+                    if seen[start] || m == EMPTY {
                         continue;
                     }
                     let mut area = 0.0;
@@ -137,15 +154,14 @@ impl Grid {
                             (i, j + 1),
                         ];
                         for (u, v) in around {
-                            if u < na && v < nb && !seen[v * na + u] && face_cell(u, v) {
+                            if u < na && v < nb && !seen[v * na + u] && face_material(u, v) == m {
                                 seen[v * na + u] = true;
                                 stack.push(v * na + u);
                             }
                         }
                     }
-                    out.entry((o, self.coords[k][c].to_bits()))
-                        .or_default()
-                        .push(area);
+                    let key = (o, self.coords[k][c].to_bits(), m);
+                    out.entry(key).or_default().push(area);
                 }
             }
         }
@@ -163,8 +179,11 @@ fn loop_area2(brep: &BRep, o: Orientation, lp: &[u32]) -> f64 {
         .sum()
 }
 
-fn brep_faces(brep: &BRep) -> HashMap<(Orientation, u64), Vec<f64>> {
-    let mut out: HashMap<(Orientation, u64), Vec<f64>> = HashMap::new();
+/// (orientation, plane coordinate bits, material).
+type FaceKey = (Orientation, u64, u32);
+
+fn brep_faces(brep: &BRep) -> HashMap<FaceKey, Vec<f64>> {
+    let mut out: HashMap<FaceKey, Vec<f64>> = HashMap::new();
     for f in &brep.faces {
         let k = f.orientation.axis();
         let plane = brep.vertices[f.outer[0] as usize].position[k];
@@ -181,7 +200,7 @@ fn brep_faces(brep: &BRep) -> HashMap<(Orientation, u64), Vec<f64>> {
                 .all(|h| loop_area2(brep, f.orientation, h) < 0.0),
             "holes are CW"
         );
-        out.entry((f.orientation, plane.to_bits()))
+        out.entry((f.orientation, plane.to_bits(), f.material))
             .or_default()
             .push((outer + holes) / 2.0);
     }
@@ -230,7 +249,6 @@ fn assert_even_chi_two_per_edge(mesh: &Mesh) {
 /// triangle count, closedness and volume.
 fn check_against_oracle(boxes: &[[f64; 6]]) {
     let brep = box_union(boxes).unwrap();
-    brep.check_invariants().unwrap();
     let grid = Grid::new(boxes);
     let got: Vec<([f64; 3], u8)> = brep.vertices.iter().map(|v| (v.position, v.code)).collect();
     assert_eq!(got, grid.vertices(), "vertices of {boxes:?}");
@@ -240,7 +258,14 @@ fn check_against_oracle(boxes: &[[f64; 6]]) {
             OCTANT_TABLE[v.code as usize].degrees(Default::default())
         );
     }
-    assert_eq!(brep_faces(&brep), grid.faces(), "faces of {boxes:?}");
+    check_brep(&brep, &grid, boxes);
+}
+
+/// Checks a B-rep against the oracle grid: faces and areas per material, loop pairing,
+/// triangle count, closedness and volume in every mesh mode.
+fn check_brep(brep: &BRep, grid: &Grid, boxes: &[[f64; 6]]) {
+    brep.check_invariants().unwrap();
+    assert_eq!(brep_faces(brep), grid.faces(), "faces of {boxes:?}");
     let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
     for f in &brep.faces {
         for lp in std::iter::once(&f.outer).chain(&f.holes) {
@@ -473,5 +498,70 @@ fn splitting_duplicating_and_reordering_boxes_change_nothing() {
             brep,
             "duplicate and reverse {boxes:?}"
         );
+    }
+}
+
+#[test]
+fn material_faces_match_the_oracle_per_material() {
+    let mut rng = Rng(0x0bad_cafe_dead_beef);
+    for case in 0..1500 {
+        let n = 1 + rng.below(8) as usize;
+        let boxes = if case % 2 == 0 {
+            random_boxes(&mut rng, n, 2 + case as u64 % 5)
+        } else {
+            random_voxels(&mut rng, 3, 55)
+        };
+        let materials: Vec<u32> = boxes.iter().map(|_| rng.below(3) as u32 * 5).collect();
+        let brep = box_union_with_materials(&boxes, &materials)
+            .unwrap_or_else(|e| panic!("{e}: {boxes:?} {materials:?}"));
+        check_brep(&brep, &Grid::with_materials(&boxes, &materials), &boxes);
+        let mesh = brep.to_mesh(MeshOptions::default()).unwrap().mesh;
+        let face_materials = mesh.face_materials().unwrap();
+        assert!(face_materials.iter().all(|m| materials.contains(m)));
+    }
+}
+
+#[test]
+fn one_material_gives_the_plain_union() {
+    let mut rng = Rng(0x7777_1234_5678_9abc);
+    for _ in 0..500 {
+        let n = 1 + rng.below(8) as usize;
+        let boxes = random_boxes(&mut rng, n, 5);
+        let plain = box_union(&boxes).unwrap();
+        let mut one = box_union_with_materials(&boxes, &vec![0; boxes.len()]).unwrap();
+        assert!(one.has_materials);
+        one.has_materials = false;
+        assert_eq!(one, plain, "{boxes:?}");
+    }
+}
+
+#[test]
+fn per_material_solids_share_their_interfaces() {
+    let mut rng = Rng(0x4242_4242_4242_4242);
+    for _ in 0..300 {
+        let boxes = random_voxels(&mut rng, 3, 60);
+        let materials: Vec<u32> = boxes.iter().map(|_| rng.below(3) as u32).collect();
+        let solids = box_union_per_material(&boxes, &materials).unwrap();
+        let mut total = 0.0;
+        let mut directed: HashMap<[[u64; 3]; 2], i32> = HashMap::new();
+        for (m, brep) in &solids {
+            assert!(brep.faces.iter().all(|f| f.material == *m));
+            let mesh = brep.to_mesh(MeshOptions::default()).unwrap().mesh;
+            total += closed_six_volume(&mesh);
+            let p = mesh.positions();
+            for face in mesh.faces() {
+                for i in 0..face.len() {
+                    let (u, v) = (face[i], face[(i + 1) % face.len()]);
+                    let key = [p[u as usize], p[v as usize]].map(|q| q.map(f64::to_bits));
+                    *directed.entry(key).or_insert(0) += 1;
+                }
+            }
+        }
+        assert_eq!(total, 6.0 * boxes.len() as f64);
+        // An interface face of one solid is a face of the other with the opposite direction,
+        // so the per-material meshes together stay balanced edge by edge.
+        for (&[u, v], &n) in &directed {
+            assert_eq!(directed.get(&[v, u]).copied().unwrap_or(0), n);
+        }
     }
 }

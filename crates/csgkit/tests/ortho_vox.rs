@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use csgkit::ortho::{MeshOptions, VoxOptions, box_union, read_vox};
+use csgkit::ortho::{MeshOptions, VoxOptions, box_union, box_union_with_materials, read_vox};
 
 use crate::util::shared_data;
 
@@ -19,15 +19,19 @@ fn every_shared_vox_model_gives_a_closed_mesh_of_the_right_volume() {
     assert!(!paths.is_empty());
     for path in paths {
         let read = read_vox(&std::fs::read(&path).unwrap(), VoxOptions::default()).unwrap();
-        let brep = box_union(&read.boxes).unwrap();
-        brep.check_invariants().unwrap();
-        for options in [
-            MeshOptions::default(),
-            MeshOptions {
-                triangles: true,
-                manifold: true,
-            },
+        let materials: Vec<u32> = read.colors.iter().map(|&c| u32::from(c)).collect();
+        let plain = box_union(&read.boxes).unwrap();
+        let coloured = box_union_with_materials(&read.boxes, &materials).unwrap();
+        let manifold = MeshOptions {
+            triangles: true,
+            manifold: true,
+        };
+        for (brep, options) in [
+            (&plain, MeshOptions::default()),
+            (&plain, manifold),
+            (&coloured, MeshOptions::default()),
         ] {
+            brep.check_invariants().unwrap();
             let mesh = brep.to_mesh(options).unwrap().mesh;
             // Every directed edge has its reverse: closed, and no T-junction (a vertex inside
             // an edge on one side only would leave that edge unbalanced).

@@ -30,6 +30,7 @@
 use rayon::prelude::*;
 
 use super::OrthoError;
+use super::materials::FaceCorner;
 use super::sweep::RankVertex;
 
 /// The orientation of a face: its outward normal, one of the six axis directions.
@@ -88,6 +89,7 @@ impl Orientation {
 
 /// A face loop before mapping to the B-rep: vertex indices in order.
 pub(crate) struct PlaneFace {
+    pub material: u32,
     pub outer: Vec<u32>,
     pub holes: Vec<Vec<u32>>,
 }
@@ -96,18 +98,23 @@ pub(crate) struct PlaneFace {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 struct Copy2 {
     plane: u32,
+    material: u32,
     b: u32,
     a: u32,
     vertex: u32,
 }
 
 /// Steps 1–8 for every orientation: (orientation, faces) in orientation then plane order.
+///
+/// Without `corners`, each vertex's degrees count copies on material 0; with them, the copies
+/// are the given face corners, and faces are extracted per material as well.
 pub(crate) fn extract_faces(
     vertices: &[RankVertex],
+    corners: Option<&[FaceCorner]>,
 ) -> Result<Vec<(Orientation, PlaneFace)>, OrthoError> {
     let per_orientation: Vec<Vec<Copy2>> = Orientation::ALL
         .par_iter()
-        .map(|&o| face_copies(vertices, o))
+        .map(|&o| face_copies(vertices, corners, o))
         .collect();
     // Every (orientation, plane) is independent: one parallel task each, results in order.
     let planes: Vec<(Orientation, &[Copy2])> = Orientation::ALL
@@ -115,7 +122,7 @@ pub(crate) fn extract_faces(
         .zip(&per_orientation)
         .flat_map(|(&o, copies)| {
             copies
-                .chunk_by(|x, y| x.plane == y.plane)
+                .chunk_by(|x, y| (x.plane, x.material) == (y.plane, y.material))
                 .map(move |p| (o, p))
         })
         .collect();
@@ -128,22 +135,37 @@ pub(crate) fn extract_faces(
     Ok(faces)
 }
 
-/// Steps 1–2: the copies of every vertex for orientation `o`, sorted by (plane, b, a).
-fn face_copies(vertices: &[RankVertex], o: Orientation) -> Vec<Copy2> {
+/// Steps 1–2: the copies of every vertex for orientation `o`, sorted by
+/// (plane, material, b, a).
+fn face_copies(
+    vertices: &[RankVertex],
+    corners: Option<&[FaceCorner]>,
+    o: Orientation,
+) -> Vec<Copy2> {
     let (k, (a, b)) = (o.axis(), o.frame());
-    let mut copies: Vec<Copy2> = vertices
-        .iter()
-        .enumerate()
-        .flat_map(|(i, v)| {
-            let c = Copy2 {
-                plane: v.rank[k],
-                b: v.rank[b],
-                a: v.rank[a],
-                vertex: i as u32,
-            };
-            std::iter::repeat_n(c, v.degrees[o.index()].into())
-        })
-        .collect();
+    let copy = |i: u32, material: u32| {
+        let r = vertices[i as usize].rank;
+        Copy2 {
+            plane: r[k],
+            material,
+            b: r[b],
+            a: r[a],
+            vertex: i,
+        }
+    };
+    let mut copies: Vec<Copy2> = match corners {
+        None => (0..vertices.len() as u32)
+            .flat_map(|i| {
+                let degree = vertices[i as usize].degrees[o.index()];
+                std::iter::repeat_n(copy(i, 0), degree.into())
+            })
+            .collect(),
+        Some(corners) => corners
+            .iter()
+            .filter(|c| usize::from(c.orientation) == o.index())
+            .flat_map(|c| std::iter::repeat_n(copy(c.vertex, c.material), c.degree.into()))
+            .collect(),
+    };
     copies.sort_unstable();
     copies
 }
@@ -214,7 +236,11 @@ fn plane_faces(copies: &[Copy2], o: Orientation) -> Result<Vec<PlaneFace>, Ortho
     half.sort_unstable_by_key(|h| (h.from, h.dir));
     let next = link(&half, o)?;
     let cycles = cycles(&next);
-    assemble_faces(&half, &cycles, o)
+    let mut faces = assemble_faces(&half, &cycles, o)?;
+    faces
+        .iter_mut()
+        .for_each(|f| f.material = copies[0].material);
+    Ok(faces)
 }
 
 /// Step 3: pairs consecutive points `(line, along, vertex)` (sorted) on each line.
@@ -361,6 +387,7 @@ fn assemble_faces(
         if first.dir == 0 {
             face_of[c] = Some(faces.len());
             faces.push(PlaneFace {
+                material: 0,
                 outer: vertices,
                 holes: Vec::new(),
             });

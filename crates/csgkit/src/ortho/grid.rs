@@ -17,6 +17,8 @@ pub(crate) struct RankedBoxes {
     pub coords: [Vec<f64>; 3],
     /// `[x0, y0, z0, x1, y1, z1]` in ranks, `lo < hi` on every axis.
     pub boxes: Vec<[u32; 6]>,
+    /// The material of each kept box (0 when none was given).
+    pub materials: Vec<u32>,
     /// Number of input boxes dropped for zero thickness.
     pub dropped: usize,
 }
@@ -27,7 +29,26 @@ impl RankedBoxes {
     /// # Errors
     /// [`OrthoError::NonFinite`] naming the first box with a NaN or infinite coordinate.
     pub(crate) fn new(boxes: &[[f64; 6]]) -> Result<Self, OrthoError> {
+        Self::with_materials(boxes, None)
+    }
+
+    /// Like [`RankedBoxes::new`], keeping each box's material.
+    ///
+    /// # Errors
+    /// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if `materials` does not
+    /// have one entry per box.
+    pub(crate) fn with_materials(
+        boxes: &[[f64; 6]],
+        materials: Option<&[u32]>,
+    ) -> Result<Self, OrthoError> {
+        if let Some(m) = materials.filter(|m| m.len() != boxes.len()) {
+            return Err(OrthoError::MaterialCount {
+                boxes: boxes.len(),
+                materials: m.len(),
+            });
+        }
         let mut kept = Vec::with_capacity(boxes.len());
+        let mut kept_materials = Vec::with_capacity(boxes.len());
         for (index, b) in boxes.iter().enumerate() {
             if b.iter().any(|v| !v.is_finite()) {
                 return Err(OrthoError::NonFinite { index });
@@ -37,6 +58,7 @@ impl RankedBoxes {
             let hi: [f64; 3] = std::array::from_fn(|k| b[k].max(b[k + 3]) + 0.0);
             if (0..3).all(|k| lo[k] < hi[k]) {
                 kept.push([lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]]);
+                kept_materials.push(materials.map_or(0, |m| m[index]));
             }
         }
         let coords: [Vec<f64>; 3] = std::array::from_fn(|k| {
@@ -53,6 +75,7 @@ impl RankedBoxes {
         Ok(Self {
             dropped: boxes.len() - kept.len(),
             boxes: ranked,
+            materials: kept_materials,
             coords,
         })
     }

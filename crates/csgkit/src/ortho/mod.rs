@@ -36,6 +36,7 @@ mod brep;
 mod coverage;
 mod grid;
 mod manifold;
+mod materials;
 mod octant;
 mod random;
 mod rect2d;
@@ -80,6 +81,14 @@ pub enum OrthoError {
         /// What is wrong.
         reason: String,
     },
+    /// The material list does not have one entry per box.
+    #[error("{materials} materials given for {boxes} boxes")]
+    MaterialCount {
+        /// The number of boxes.
+        boxes: usize,
+        /// The number of materials.
+        materials: usize,
+    },
     /// The triangulation of a face failed, e.g. for coordinates outside spade's range.
     #[error("face {face} cannot be triangulated: {reason}")]
     Triangulation {
@@ -106,6 +115,8 @@ pub struct BRepVertex {
 pub struct Face {
     /// The outward normal.
     pub orientation: Orientation,
+    /// The material of the solid behind the face (0 without materials).
+    pub material: u32,
     /// Vertex indices of the outer loop, CCW seen from outside. It may be weakly simple,
     /// visiting a pinch vertex twice (a hole touching the outer boundary at a point).
     pub outer: Vec<u32>,
@@ -122,6 +133,8 @@ pub struct BRep {
     pub faces: Vec<Face>,
     /// Input boxes dropped for zero thickness.
     pub dropped_boxes: usize,
+    /// Whether faces carry the materials of their boxes ([`box_union_with_materials`]).
+    pub has_materials: bool,
 }
 
 /// Computes the vertices of the union of `boxes` with their octant codes and degrees, sorted
@@ -151,14 +164,66 @@ pub fn box_union_vertices(
 pub fn box_union(boxes: &[[f64; 6]]) -> Result<BRep, OrthoError> {
     let ranked = RankedBoxes::new(boxes)?;
     let vertices = sweep::sweep_vertices(&ranked, DegreeConvention::Conforming);
-    let faces = brep::extract_faces(&vertices)?
-        .into_iter()
-        .map(|(orientation, f)| Face {
-            orientation,
-            outer: f.outer,
-            holes: f.holes,
+    let faces = brep::extract_faces(&vertices, None)?;
+    Ok(assemble(&ranked, &vertices, faces, false))
+}
+
+/// Computes the B-rep of the union of `boxes`, box `i` being made of material
+/// `materials[i]`: each face takes the material of the box behind it (the smallest id where
+/// boxes of different materials overlap), faces are maximal per material, and interfaces
+/// between materials inside the union are not faces (`materials` stage).
+///
+/// # Errors
+/// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if the lengths differ.
+pub fn box_union_with_materials(boxes: &[[f64; 6]], materials: &[u32]) -> Result<BRep, OrthoError> {
+    let ranked = RankedBoxes::with_materials(boxes, Some(materials))?;
+    let (vertices, corners) = materials::sweep_material_vertices(&ranked);
+    let faces = brep::extract_faces(&vertices, Some(&corners))?;
+    Ok(assemble(&ranked, &vertices, faces, true))
+}
+
+/// Computes one B-rep per material, each the union of that material's boxes alone, in
+/// increasing material order: where two materials touch, both solids have a face, with
+/// opposite orientations.
+///
+/// # Errors
+/// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if the lengths differ.
+pub fn box_union_per_material(
+    boxes: &[[f64; 6]],
+    materials: &[u32],
+) -> Result<Vec<(u32, BRep)>, OrthoError> {
+    if materials.len() != boxes.len() {
+        return Err(OrthoError::MaterialCount {
+            boxes: boxes.len(),
+            materials: materials.len(),
+        });
+    }
+    let mut ids: Vec<u32> = materials.to_vec();
+    ids.sort_unstable();
+    ids.dedup();
+    ids.into_iter()
+        .map(|m| {
+            let own: Vec<[f64; 6]> = boxes
+                .iter()
+                .zip(materials)
+                .filter(|&(_, &b)| b == m)
+                .map(|(b, _)| *b)
+                .collect();
+            let mut brep = box_union(&own)?;
+            brep.has_materials = true;
+            brep.faces.iter_mut().for_each(|f| f.material = m);
+            Ok((m, brep))
         })
-        .collect();
+        .collect()
+}
+
+/// Maps ranks back to positions and builds the [`BRep`].
+fn assemble(
+    ranked: &RankedBoxes,
+    vertices: &[sweep::RankVertex],
+    faces: Vec<(Orientation, brep::PlaneFace)>,
+    has_materials: bool,
+) -> BRep {
     let brep = BRep {
         vertices: vertices
             .iter()
@@ -168,11 +233,20 @@ pub fn box_union(boxes: &[[f64; 6]]) -> Result<BRep, OrthoError> {
                 degrees: v.degrees,
             })
             .collect(),
-        faces,
+        faces: faces
+            .into_iter()
+            .map(|(orientation, f)| Face {
+                orientation,
+                material: f.material,
+                outer: f.outer,
+                holes: f.holes,
+            })
+            .collect(),
         dropped_boxes: ranked.dropped,
+        has_materials,
     };
     debug_assert_eq!(brep.check_invariants(), Ok(()));
-    Ok(brep)
+    brep
 }
 
 /// A 2D corner record of a union of rectangles (§A3).

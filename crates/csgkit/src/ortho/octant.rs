@@ -82,7 +82,7 @@ const fn occupied(code: u8, s: [usize; 3]) -> bool {
 }
 
 /// Corner multiplicity and pass-through flag of the quadrant set `q` (bit `u | v << 1`).
-const fn classify_quadrants(q: u8) -> (u8, bool) {
+pub(crate) const fn classify_quadrants(q: u8) -> (u8, bool) {
     match q.count_ones() {
         1 | 3 => (1, false),
         2 if q == 0b1001 || q == 0b0110 => (2, false),

@@ -45,7 +45,9 @@ struct Event {
 /// and `above`, in (y, x) order, with its octant code (bit `sx | sy << 1 | sz << 2`, where
 /// `sz = 0` reads `below`). The caller filters the codes through the octant table.
 pub(crate) fn plane_scan(below: &[Rect], above: &[Rect], mut emit: impl FnMut(u32, u32, u8)) {
-    scan_layers(&[below, above], |x, y, masks| emit(x, y, masks[0] | masks[1] << 4));
+    scan_layers(&[below, above], |x, y, masks| {
+        emit(x, y, masks[0] | masks[1] << 4)
+    });
 }
 
 /// The scan over any number of rectangle layers, each with its own coverage tree. For every
@@ -66,7 +68,13 @@ pub(crate) fn scan_layers(layers: &[&[Rect]], mut emit: impl FnMut(u32, u32, &[u
         for r in rects.iter() {
             let (l, rr) = (local(r.x0), local(r.x1));
             for (y, delta) in [(r.y0, 1), (r.y1, -1)] {
-                events.push(Event { y, layer, l, r: rr, delta });
+                events.push(Event {
+                    y,
+                    layer,
+                    l,
+                    r: rr,
+                    delta,
+                });
             }
         }
     }
@@ -76,7 +84,11 @@ pub(crate) fn scan_layers(layers: &[&[Rect]], mut emit: impl FnMut(u32, u32, &[u
     let mut line = ScanLine::default();
     for group in events.chunk_by(|a, b| a.y == b.y) {
         line.process(group, &mut trees, leaves);
-        for (x, masks) in line.candidates.iter().zip(line.masks.chunks_exact(layers.len())) {
+        for (x, masks) in line
+            .candidates
+            .iter()
+            .zip(line.masks.chunks_exact(layers.len()))
+        {
             emit(xs[*x as usize], group[0].y, masks);
         }
     }
@@ -102,7 +114,9 @@ impl ScanLine {
         if self.runs.len() < self.intervals.len() {
             self.runs.resize_with(self.intervals.len(), Vec::new);
         }
-        self.runs.iter_mut().for_each(|r| r.resize_with(lists, Vec::new));
+        self.runs
+            .iter_mut()
+            .for_each(|r| r.resize_with(lists, Vec::new));
         self.read_runs(trees, leaves, 0);
         for e in group {
             trees[e.layer].add(e.l as usize, e.r as usize, e.delta);
@@ -114,7 +128,8 @@ impl ScanLine {
             let runs = &self.runs[i][..lists];
             let first = self.candidates.len();
             for &(s, e) in runs.iter().flatten() {
-                self.candidates.extend([s, e].into_iter().filter(|x| (a..=b).contains(x)));
+                self.candidates
+                    .extend([s, e].into_iter().filter(|x| (a..=b).contains(x)));
             }
             self.candidates[first..].sort_unstable();
             let mut kept = first;
@@ -126,7 +141,8 @@ impl ScanLine {
             }
             self.candidates.truncate(kept);
             for &x in &self.candidates[first..] {
-                self.masks.extend(runs.chunks_exact(2).map(|pair| quadrant_mask(pair, x)));
+                self.masks
+                    .extend(runs.chunks_exact(2).map(|pair| quadrant_mask(pair, x)));
             }
         }
     }

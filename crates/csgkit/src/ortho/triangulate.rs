@@ -86,13 +86,13 @@ impl BRep {
             }
         }
         let all_triangles = starts.windows(2).all(|w| w[1] - w[0] == 3);
-        let parts = MeshParts {
+        let mut parts = MeshParts {
             positions: self.vertices.iter().map(|v| v.position).collect(),
             corners,
             face_starts: (!all_triangles).then_some(starts),
-            face_provenance: Some(provenance),
             ..MeshParts::default()
         };
+        self.set_face_attributes(&mut parts, provenance);
         let mesh = Mesh::from_parts(parts).expect("B-rep loops index existing vertices");
         Ok(MeshOutput {
             mesh,
@@ -131,17 +131,32 @@ impl BRep {
                 face: FaceId::new(f as usize),
             })
             .collect();
-        let parts = MeshParts {
+        let mut parts = MeshParts {
             positions: soup.positions,
             corners: soup.triangles.into_iter().flatten().collect(),
-            face_provenance: Some(provenance),
             ..MeshParts::default()
         };
+        self.set_face_attributes(&mut parts, provenance);
         let mesh = Mesh::from_parts(parts).expect("the split keeps indices in range");
         Ok(MeshOutput {
             mesh,
             unsplit_edges,
         })
+    }
+
+    /// Sets the provenance (operand 0, B-rep face) of every mesh face and, when the B-rep has
+    /// materials, its material: material id m is named `material_m`.
+    fn set_face_attributes(&self, parts: &mut MeshParts, provenance: Vec<Provenance>) {
+        if self.has_materials {
+            let materials: Vec<u32> = provenance
+                .iter()
+                .map(|p| self.faces[p.face.index()].material)
+                .collect();
+            let count = materials.iter().max().map_or(0, |&m| m as usize + 1);
+            parts.materials = (0..count).map(|m| format!("material_{m}")).collect();
+            parts.face_materials = Some(materials);
+        }
+        parts.face_provenance = Some(provenance);
     }
 
     /// The triangles of face `f` as vertex-index triples, CCW seen from outside.
