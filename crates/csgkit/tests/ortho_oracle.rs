@@ -565,3 +565,41 @@ fn per_material_solids_share_their_interfaces() {
         }
     }
 }
+
+#[test]
+fn huge_tiny_and_negative_coordinates_keep_the_combinatorics() {
+    let mut rng = Rng(0x5151_2727_9393_abab);
+    let warps: [fn(f64) -> f64; 4] = [
+        |x| (x - 2.0) * 1e250,
+        |x| (x - 2.0) * 1e-300,
+        |x| -1e15 + x * 0.125,
+        |x| {
+            if x < 2.0 {
+                -f64::MAX / 4.0 * (2.0 - x)
+            } else {
+                f64::MAX / 4.0 * (x - 2.0)
+            }
+        },
+    ];
+    for case in 0..400 {
+        let n = 1 + rng.below(8) as usize;
+        let boxes = random_boxes(&mut rng, n, 2 + case % 4);
+        let plain = box_union(&boxes).unwrap();
+        for warp in warps {
+            let warped: Vec<[f64; 6]> = boxes.iter().map(|b| b.map(warp)).collect();
+            let bent = box_union(&warped).unwrap();
+            assert_eq!(
+                loops_by_position(&plain, |p| p.map(warp)),
+                loops_by_position(&bent, |p| p)
+            );
+            // Triangulation either succeeds with the exact count or reports the range error;
+            // it never panics.
+            if let Err(e) = bent.to_mesh(MeshOptions {
+                triangles: true,
+                manifold: false,
+            }) {
+                assert!(e.to_string().contains("cannot be triangulated"), "{e}");
+            }
+        }
+    }
+}

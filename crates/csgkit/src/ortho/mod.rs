@@ -32,6 +32,7 @@
 //! Σ_planes O(m_k log m_k + runs) for the sweep, O(E log E) for the loops, and the
 //! triangulation O(n log n) per face; the worst case is Θ(n³), the worst-case output size.
 
+mod boxes_text;
 mod brep;
 mod coverage;
 mod grid;
@@ -44,6 +45,7 @@ mod sweep;
 mod triangulate;
 mod vox;
 
+pub use boxes_text::{BoxesTextError, parse_boxes};
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
 pub use random::random_grid_boxes;
