@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use csgkit::ortho::{MeshOptions, box_union, random_grid_boxes};
+use csgkit::ortho::{MeshOptions, box_union_timed, random_grid_boxes};
 
 fn main() {
     let sizes: Vec<usize> = std::env::args()
@@ -19,25 +19,22 @@ fn main() {
     for n in sizes {
         let boxes = random_grid_boxes(n, 0x5eed);
         let start = Instant::now();
-        let v = csgkit::ortho::box_union_vertices(&boxes, Default::default()).unwrap();
-        println!(
-            "sweep only: {} vertices in {:.4}s",
-            v.len(),
-            start.elapsed().as_secs_f64()
-        );
-        let start = Instant::now();
-        let brep = box_union(&boxes).expect("random boxes are finite");
-        let brep_s = start.elapsed().as_secs_f64();
+        let (brep, stages) = box_union_timed(&boxes, None).expect("random boxes are finite");
+        let mesh_start = Instant::now();
         let mesh = brep
             .to_mesh(MeshOptions::default())
             .expect("triangulation succeeds")
             .mesh;
+        let mesh_s = mesh_start.elapsed().as_secs_f64();
         let total = start.elapsed().as_secs_f64();
         println!(
-            "n={n:>7} vertices={:>8} faces={:>7} mesh_faces={:>8} brep_s={brep_s:.4} total_s={total:.4}",
+            "n={n:>7} vertices={:>8} faces={:>7} mesh_faces={:>8} rank={:.4} sweep={:.4} loops={:.4} mesh={mesh_s:.4} total={total:.4}",
             brep.vertices.len(),
             brep.faces.len(),
-            mesh.face_count()
+            mesh.face_count(),
+            stages.rank,
+            stages.sweep,
+            stages.loops,
         );
         points.push(((n as f64).ln(), total.ln()));
     }

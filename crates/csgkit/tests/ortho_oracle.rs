@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use csgkit::Mesh;
 use csgkit::ortho::{
     BRep, MeshOptions, OCTANT_TABLE, Orientation, box_union, box_union_per_material,
-    box_union_with_materials,
+    box_union_with_materials, per_material_mesh,
 };
 
 /// A xorshift generator: fixed seeds make every case reproducible.
@@ -558,6 +558,14 @@ fn per_material_solids_share_their_interfaces() {
             }
         }
         assert_eq!(total, 6.0 * boxes.len() as f64);
+        let joined = per_material_mesh(&solids, MeshOptions::default())
+            .unwrap()
+            .mesh;
+        assert_eq!(closed_six_volume(&joined), total);
+        assert_eq!(
+            joined.face_materials().map(<[u32]>::len),
+            Some(joined.face_count())
+        );
         // An interface face of one solid is a face of the other with the opposite direction,
         // so the per-material meshes together stay balanced edge by edge.
         for (&[u, v], &n) in &directed {

@@ -49,7 +49,7 @@ pub use boxes_text::{BoxesTextError, parse_boxes};
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
 pub use random::random_grid_boxes;
-pub use triangulate::{MeshOptions, MeshOutput};
+pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
 pub use vox::{VoxBoxes, VoxOptions, read_vox};
 
 use grid::RankedBoxes;
@@ -164,10 +164,47 @@ pub fn box_union_vertices(
 /// # Errors
 /// [`OrthoError::NonFinite`] naming the first box with a non-finite coordinate.
 pub fn box_union(boxes: &[[f64; 6]]) -> Result<BRep, OrthoError> {
-    let ranked = RankedBoxes::new(boxes)?;
-    let vertices = sweep::sweep_vertices(&ranked, DegreeConvention::Conforming);
-    let faces = brep::extract_faces(&vertices, None)?;
-    Ok(assemble(&ranked, &vertices, faces, false))
+    box_union_timed(boxes, None).map(|(brep, _)| brep)
+}
+
+/// Seconds spent in each stage of [`box_union_timed`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageSeconds {
+    /// Ranking the coordinates.
+    pub rank: f64,
+    /// The octant-code sweep (vertices and degrees).
+    pub sweep: f64,
+    /// Loop linking and hole assignment.
+    pub loops: f64,
+}
+
+/// [`box_union`] (`materials: None`) or [`box_union_with_materials`], with the time of each
+/// stage.
+///
+/// # Errors
+/// As [`box_union_with_materials`].
+pub fn box_union_timed(
+    boxes: &[[f64; 6]],
+    materials: Option<&[u32]>,
+) -> Result<(BRep, StageSeconds), OrthoError> {
+    let clock = std::time::Instant::now();
+    let ranked = RankedBoxes::with_materials(boxes, materials)?;
+    let rank = clock.elapsed().as_secs_f64();
+    let (vertices, corners) = match materials {
+        None => (
+            sweep::sweep_vertices(&ranked, DegreeConvention::Conforming),
+            None,
+        ),
+        Some(_) => {
+            let (v, c) = materials::sweep_material_vertices(&ranked);
+            (v, Some(c))
+        }
+    };
+    let sweep = clock.elapsed().as_secs_f64() - rank;
+    let faces = brep::extract_faces(&vertices, corners.as_deref())?;
+    let brep = assemble(&ranked, &vertices, faces, materials.is_some());
+    let loops = clock.elapsed().as_secs_f64() - rank - sweep;
+    Ok((brep, StageSeconds { rank, sweep, loops }))
 }
 
 /// Computes the B-rep of the union of `boxes`, box `i` being made of material
@@ -178,10 +215,7 @@ pub fn box_union(boxes: &[[f64; 6]]) -> Result<BRep, OrthoError> {
 /// # Errors
 /// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if the lengths differ.
 pub fn box_union_with_materials(boxes: &[[f64; 6]], materials: &[u32]) -> Result<BRep, OrthoError> {
-    let ranked = RankedBoxes::with_materials(boxes, Some(materials))?;
-    let (vertices, corners) = materials::sweep_material_vertices(&ranked);
-    let faces = brep::extract_faces(&vertices, Some(&corners))?;
-    Ok(assemble(&ranked, &vertices, faces, true))
+    box_union_timed(boxes, Some(materials)).map(|(brep, _)| brep)
 }
 
 /// Computes one B-rep per material, each the union of that material's boxes alone, in

@@ -252,3 +252,49 @@ fn is_simple(lp: &[u32]) -> bool {
     sorted.sort_unstable();
     sorted.windows(2).all(|w| w[0] != w[1])
 }
+
+/// One mesh holding every solid of [`box_union_per_material`](super::box_union_per_material):
+/// solid i's faces have operand i in their provenance and its material id, named
+/// `material_m`. Solids keep separate vertices, so where two materials touch, both faces are
+/// present with opposite orientations.
+///
+/// # Errors
+/// As [`BRep::to_mesh`].
+pub fn per_material_mesh(
+    solids: &[(u32, BRep)],
+    options: MeshOptions,
+) -> Result<MeshOutput, OrthoError> {
+    let mut parts = MeshParts::default();
+    let mut starts = vec![0u32];
+    let mut materials = Vec::new();
+    let mut provenance = Vec::new();
+    let mut unsplit_edges = 0;
+    for (operand, (material, brep)) in solids.iter().enumerate() {
+        let out = brep.to_mesh(options)?;
+        unsplit_edges += out.unsplit_edges;
+        let mesh = out.mesh;
+        let offset = parts.positions.len() as u32;
+        parts.positions.extend_from_slice(mesh.positions());
+        for (f, face) in mesh.faces().enumerate() {
+            parts.corners.extend(face.iter().map(|&v| v + offset));
+            starts.push(parts.corners.len() as u32);
+            materials.push(*material);
+            let face = mesh.face_provenance().map_or(FaceId::new(f), |p| p[f].face);
+            provenance.push(Provenance {
+                operand: OperandId::new(operand),
+                face,
+            });
+        }
+    }
+    let all_triangles = starts.windows(2).all(|w| w[1] - w[0] == 3);
+    parts.face_starts = (!all_triangles).then_some(starts);
+    let count = materials.iter().max().map_or(0, |&m| m as usize + 1);
+    parts.materials = (0..count).map(|m| format!("material_{m}")).collect();
+    parts.face_materials = Some(materials);
+    parts.face_provenance = Some(provenance);
+    let mesh = Mesh::from_parts(parts).expect("concatenated meshes keep indices in range");
+    Ok(MeshOutput {
+        mesh,
+        unsplit_edges,
+    })
+}
