@@ -18,7 +18,12 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod io;
 pub mod mesh;
 pub mod ortho;
 
+pub use io::{
+    Encoding, Format, LoadedMesh, Location, ParseError, ReadError, WriteError, WriteOptions,
+    read_mesh, read_mesh_from_bytes, write_mesh, write_mesh_to_bytes,
+};
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
