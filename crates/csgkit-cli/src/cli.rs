@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::commands::{boxes, demo};
+
 /// Exact boolean operations on 3D solids.
 #[derive(Parser, Debug)]
 #[command(name = "csgkit", version, about, long_about = None)]
@@ -13,10 +15,19 @@ struct Cli {
 }
 
 #[derive(Subcommand, Debug)]
-enum Command {}
+enum Command {
+    /// The exact boundary of a union of axis-aligned boxes (.vox or a box text file).
+    Boxes(boxes::BoxesArgs),
+    /// Runs the engine on built-in data and writes its outputs.
+    Demo(demo::DemoArgs),
+}
 
 /// Parses the command line and runs the chosen subcommand.
 pub fn run() -> anyhow::Result<ExitCode> {
     let cli = Cli::parse();
-    match cli.command {}
+    match cli.command {
+        Command::Boxes(args) => boxes::run(&args)?,
+        Command::Demo(args) => demo::run(&args)?,
+    }
+    Ok(ExitCode::SUCCESS)
 }
