@@ -1,6 +1,10 @@
 //! Integration tests, one module per area.
 
-mod ortho_cases; // the orthogonal engine: design vectors, oracle, metamorphic
+mod util;
+
+// The orthogonal engine: design vectors E1-E10 and R1-R6.
+mod ortho_cases;
+// The orthogonal engine against a brute-force grid oracle; metamorphic relations.
 mod ortho_oracle;
+// The orthogonal engine on the shared MagicaVoxel models.
 mod ortho_vox;
-mod util; // the orthogonal engine against a brute-force grid oracle // the orthogonal engine on the shared MagicaVoxel models
