@@ -1,7 +1,8 @@
 //! Criterion benches of the orthogonal engine: `ortho/<stage>/<input>/<size>`.
 //!
 //! Inputs: n random integer boxes with sides 1–4 in a cube of side G = round((25n/0.7)^⅓)
-//! (the peers harness's `boxes_union` family, fixed seed), and the shared `.vox` models.
+//! (the peers harness's `boxes_union` family, fixed seed), and the shared `.vox` models
+//! (`../shared/data/voxels`, or `$CSGKIT_SHARED_DATA/voxels`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use csgkit::ortho::{MeshOptions, VoxOptions, box_union, random_grid_boxes, read_vox};
