@@ -611,3 +611,27 @@ fn huge_tiny_and_negative_coordinates_keep_the_combinatorics() {
         }
     }
 }
+
+#[test]
+fn the_output_does_not_depend_on_the_thread_count() {
+    let boxes = csgkit::ortho::random_grid_boxes(3000, 7);
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let brep = box_union(&boxes).unwrap();
+            let manifold = brep
+                .to_mesh(MeshOptions {
+                    triangles: true,
+                    manifold: true,
+                })
+                .unwrap();
+            (brep, manifold)
+        })
+    };
+    let (one, four) = (on(1), on(4));
+    assert_eq!(one.0, four.0);
+    assert_eq!(one.1, four.1);
+}
