@@ -19,7 +19,7 @@ fn main() {
     for n in sizes {
         let boxes = random_grid_boxes(n, 0x5eed);
         let start = Instant::now();
-        let (brep, stages) = box_union_timed(&boxes, None).expect("random boxes are finite");
+        let (brep, stages) = box_union_timed(&boxes, None, None).expect("random boxes are finite");
         let mesh_start = Instant::now();
         let mesh = brep
             .to_mesh(MeshOptions::default())

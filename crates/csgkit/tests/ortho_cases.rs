@@ -501,3 +501,44 @@ fn rectangle_vector_r6_gives_one_weakly_simple_loop() {
         .mesh;
     assert_eq!(closed_six_volume(&tri), 6.0 * 7.0);
 }
+
+/// Eight voxels whose union has a non-manifold edge with single-fan endpoints (two class-25
+/// vertices with five occupied octants): the manifold mode must split that edge with one
+/// midpoint per sheet (§A6 step 3). Found by the random voxel search, then shrunk.
+#[test]
+fn manifold_mode_splits_a_sheet_edge_at_its_midpoints() {
+    let voxels = [
+        [0, 1, 0],
+        [1, 1, 0],
+        [1, 2, 0],
+        [0, 1, 1],
+        [1, 2, 1],
+        [0, 1, 2],
+        [1, 1, 2],
+        [1, 2, 2],
+    ];
+    let input: Vec<[f64; 6]> = voxels
+        .iter()
+        .map(|v| {
+            let p = v.map(f64::from);
+            [p[0], p[1], p[2], p[0] + 1.0, p[1] + 1.0, p[2] + 1.0]
+        })
+        .collect();
+    let brep = box_union(&input).unwrap();
+    let out = brep
+        .to_mesh(MeshOptions {
+            triangles: true,
+            manifold: true,
+        })
+        .unwrap();
+    assert_eq!(out.unsplit_edges, 0);
+    let midpoints = out
+        .mesh
+        .positions()
+        .iter()
+        .filter(|p| p.iter().any(|c| c.fract() != 0.0));
+    assert_eq!(midpoints.count(), 2);
+    let (_, chi) = manifold_components_and_chi(&out.mesh);
+    assert_eq!(chi % 2, 0);
+    assert_eq!(closed_six_volume(&out.mesh), 6.0 * 8.0);
+}

@@ -611,3 +611,52 @@ fn huge_tiny_and_negative_coordinates_keep_the_combinatorics() {
         }
     }
 }
+
+#[test]
+fn the_output_does_not_depend_on_the_thread_count() {
+    let boxes = csgkit::ortho::random_grid_boxes(3000, 7);
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let brep = box_union(&boxes).unwrap();
+            let manifold = brep
+                .to_mesh(MeshOptions {
+                    triangles: true,
+                    manifold: true,
+                })
+                .unwrap();
+            (brep, manifold)
+        })
+    };
+    let (one, four) = (on(1), on(4));
+    assert_eq!(one.0, four.0);
+    assert_eq!(one.1, four.1);
+}
+
+#[test]
+fn progress_counts_every_plane_and_can_cancel() {
+    use std::sync::Mutex;
+
+    use csgkit::ortho::{OrthoError, Stage, box_union_timed};
+    let boxes = csgkit::ortho::random_grid_boxes(500, 3);
+    let seen = Mutex::new(Vec::new());
+    let record = |stage: Stage, done: usize, total: usize| {
+        seen.lock().unwrap().push((stage, done, total));
+        true
+    };
+    let (brep, _) = box_union_timed(&boxes, None, Some(&record)).unwrap();
+    assert_eq!(brep, box_union(&boxes).unwrap());
+    let seen = seen.into_inner().unwrap();
+    for stage in [Stage::Sweep, Stage::Loops] {
+        let reports: Vec<_> = seen.iter().filter(|r| r.0 == stage).collect();
+        let total = reports[0].2;
+        assert_eq!(reports.len(), total, "{stage:?} reports once per task");
+        assert!(reports.iter().any(|r| r.1 == total));
+    }
+    let stop = |_: Stage, done: usize, _: usize| done < 3;
+    let cancelled = box_union_timed(&boxes, None, Some(&stop));
+    assert_eq!(cancelled.unwrap_err(), OrthoError::Cancelled);
+}

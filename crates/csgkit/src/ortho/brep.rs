@@ -31,6 +31,7 @@ use rayon::prelude::*;
 
 use super::OrthoError;
 use super::materials::FaceCorner;
+use super::progress::{ProgressFn, Stage, Tracker};
 use super::sweep::RankVertex;
 
 /// The orientation of a face: its outward normal, one of the six axis directions.
@@ -111,6 +112,7 @@ struct Copy2 {
 pub(crate) fn extract_faces(
     vertices: &[RankVertex],
     corners: Option<&[FaceCorner]>,
+    progress: Option<ProgressFn>,
 ) -> Result<Vec<(Orientation, PlaneFace)>, OrthoError> {
     let per_orientation: Vec<Vec<Copy2>> = Orientation::ALL
         .par_iter()
@@ -126,8 +128,18 @@ pub(crate) fn extract_faces(
                 .map(move |p| (o, p))
         })
         .collect();
-    let per_plane: Vec<Result<Vec<PlaneFace>, OrthoError>> =
-        planes.par_iter().map(|&(o, p)| plane_faces(p, o)).collect();
+    let tracker = Tracker::new(progress, Stage::Loops, planes.len());
+    let per_plane: Vec<Result<Vec<PlaneFace>, OrthoError>> = planes
+        .par_iter()
+        .map(|&(o, p)| {
+            if tracker.cancelled() {
+                return Err(OrthoError::Cancelled);
+            }
+            let faces = plane_faces(p, o);
+            tracker.tick();
+            faces
+        })
+        .collect();
     let mut faces = Vec::new();
     for ((o, _), result) in planes.iter().zip(per_plane) {
         faces.extend(result?.into_iter().map(|f| (*o, f)));

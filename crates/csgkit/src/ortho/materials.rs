@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use super::grid::RankedBoxes;
 use super::octant::{DegreeConvention, OCTANT_TABLE, classify_quadrants};
+use super::progress::Tracker;
 use super::rect2d::{Rect, scan_layers};
 use super::sweep::RankVertex;
 
@@ -39,15 +40,23 @@ pub(crate) struct FaceCorner {
 }
 
 /// Every vertex of the material boundary (sorted by (z, y, x)) and its face corners.
-pub(crate) fn sweep_material_vertices(boxes: &RankedBoxes) -> (Vec<RankVertex>, Vec<FaceCorner>) {
+pub(crate) fn sweep_material_vertices(
+    boxes: &RankedBoxes,
+    tracker: &Tracker,
+) -> (Vec<RankVertex>, Vec<FaceCorner>) {
     let slabs = material_slabs(boxes);
     let planes = boxes.coords[2].len();
     let per_plane: Vec<Vec<(RankVertex, Vec<FaceCorner>)>> = (0..planes)
         .into_par_iter()
         .map(|k| {
+            if tracker.cancelled() {
+                return Vec::new();
+            }
             let below = if k > 0 { &slabs[k - 1][..] } else { &[][..] };
             let above = slabs.get(k).map_or(&[][..], |s| &s[..]);
-            plane_vertices(below, above, k as u32)
+            let vertices = plane_vertices(below, above, k as u32);
+            tracker.tick();
+            vertices
         })
         .collect();
     let mut vertices = Vec::new();

@@ -39,6 +39,7 @@ mod grid;
 mod manifold;
 mod materials;
 mod octant;
+mod progress;
 mod random;
 mod rect2d;
 mod sweep;
@@ -48,6 +49,7 @@ mod vox;
 pub use boxes_text::{BoxesTextError, parse_boxes};
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
+pub use progress::{ProgressFn, Stage};
 pub use random::random_grid_boxes;
 pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
 pub use vox::{VoxBoxes, VoxOptions, read_vox};
@@ -91,6 +93,9 @@ pub enum OrthoError {
         /// The number of materials.
         materials: usize,
     },
+    /// The progress callback asked to stop.
+    #[error("cancelled")]
+    Cancelled,
     /// The triangulation of a face failed, e.g. for coordinates outside spade's range.
     #[error("face {face} cannot be triangulated: {reason}")]
     Triangulation {
@@ -149,7 +154,8 @@ pub fn box_union_vertices(
     convention: DegreeConvention,
 ) -> Result<Vec<BRepVertex>, OrthoError> {
     let ranked = RankedBoxes::new(boxes)?;
-    Ok(sweep::sweep_vertices(&ranked, convention)
+    let tracker = progress::Tracker::new(None, Stage::Sweep, 0);
+    Ok(sweep::sweep_vertices(&ranked, convention, &tracker)
         .into_iter()
         .map(|v| BRepVertex {
             position: ranked.position(v.rank),
@@ -164,7 +170,7 @@ pub fn box_union_vertices(
 /// # Errors
 /// [`OrthoError::NonFinite`] naming the first box with a non-finite coordinate.
 pub fn box_union(boxes: &[[f64; 6]]) -> Result<BRep, OrthoError> {
-    box_union_timed(boxes, None).map(|(brep, _)| brep)
+    box_union_timed(boxes, None, None).map(|(brep, _)| brep)
 }
 
 /// Seconds spent in each stage of [`box_union_timed`].
@@ -179,29 +185,35 @@ pub struct StageSeconds {
 }
 
 /// [`box_union`] (`materials: None`) or [`box_union_with_materials`], with the time of each
-/// stage.
+/// stage, reporting progress to `progress` (which may cancel the run by returning `false`).
 ///
 /// # Errors
-/// As [`box_union_with_materials`].
+/// As [`box_union_with_materials`], and [`OrthoError::Cancelled`] if `progress` stopped the
+/// run.
 pub fn box_union_timed(
     boxes: &[[f64; 6]],
     materials: Option<&[u32]>,
+    progress: Option<ProgressFn>,
 ) -> Result<(BRep, StageSeconds), OrthoError> {
     let clock = std::time::Instant::now();
     let ranked = RankedBoxes::with_materials(boxes, materials)?;
     let rank = clock.elapsed().as_secs_f64();
+    let tracker = progress::Tracker::new(progress, Stage::Sweep, ranked.coords[2].len());
     let (vertices, corners) = match materials {
         None => (
-            sweep::sweep_vertices(&ranked, DegreeConvention::Conforming),
+            sweep::sweep_vertices(&ranked, DegreeConvention::Conforming, &tracker),
             None,
         ),
         Some(_) => {
-            let (v, c) = materials::sweep_material_vertices(&ranked);
+            let (v, c) = materials::sweep_material_vertices(&ranked, &tracker);
             (v, Some(c))
         }
     };
+    if tracker.cancelled() {
+        return Err(OrthoError::Cancelled);
+    }
     let sweep = clock.elapsed().as_secs_f64() - rank;
-    let faces = brep::extract_faces(&vertices, corners.as_deref())?;
+    let faces = brep::extract_faces(&vertices, corners.as_deref(), progress)?;
     let brep = assemble(&ranked, &vertices, faces, materials.is_some());
     let loops = clock.elapsed().as_secs_f64() - rank - sweep;
     Ok((brep, StageSeconds { rank, sweep, loops }))
@@ -215,7 +227,7 @@ pub fn box_union_timed(
 /// # Errors
 /// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if the lengths differ.
 pub fn box_union_with_materials(boxes: &[[f64; 6]], materials: &[u32]) -> Result<BRep, OrthoError> {
-    box_union_timed(boxes, Some(materials)).map(|(brep, _)| brep)
+    box_union_timed(boxes, Some(materials), None).map(|(brep, _)| brep)
 }
 
 /// Computes one B-rep per material, each the union of that material's boxes alone, in

@@ -24,6 +24,7 @@ use rayon::prelude::*;
 
 use super::grid::RankedBoxes;
 use super::octant::{DegreeConvention, OCTANT_TABLE};
+use super::progress::Tracker;
 use super::rect2d::{Rect, plane_scan};
 
 /// A boundary vertex in ranks with its octant code and degrees.
@@ -38,15 +39,27 @@ pub(crate) struct RankVertex {
 }
 
 /// Every boundary vertex of the union of `boxes`, sorted by (z, y, x).
-pub(crate) fn sweep_vertices(boxes: &RankedBoxes, convention: DegreeConvention) -> Vec<RankVertex> {
+///
+/// Each plane ticks `tracker`; once it is cancelled, the remaining planes are skipped (the
+/// caller checks [`Tracker::cancelled`]).
+pub(crate) fn sweep_vertices(
+    boxes: &RankedBoxes,
+    convention: DegreeConvention,
+    tracker: &Tracker,
+) -> Vec<RankVertex> {
     let slabs = slab_rects(boxes);
     let planes = boxes.coords[2].len();
     let per_plane: Vec<Vec<RankVertex>> = (0..planes)
         .into_par_iter()
         .map(|k| {
+            if tracker.cancelled() {
+                return Vec::new();
+            }
             let below = if k > 0 { &slabs[k - 1][..] } else { &[][..] };
             let above = slabs.get(k).map_or(&[][..], |s| &s[..]);
-            plane_vertices(below, above, k as u32, convention)
+            let vertices = plane_vertices(below, above, k as u32, convention);
+            tracker.tick();
+            vertices
         })
         .collect();
     per_plane.concat()
