@@ -21,6 +21,20 @@
 //! 3. Link the vertices into loops per face plane and assign holes (`brep`, §A5).
 //! 4. Triangulate faces with holes without adding or dropping a boundary vertex, with exact
 //!    predicates (`triangulate`, §A6), and index vertices by exact position.
+//! 5. Optionally split non-manifold edges and vertices into a 2-manifold (`manifold`, §A6).
+//!
+//! # Variants and inputs
+//! - [`box_union_with_materials`] gives each face the material of the box behind it
+//!   (`materials`); [`box_union_per_material`] builds one solid per material.
+//! - [`box_union_timed`] reports stage times and progress, and can be cancelled (`progress`).
+//! - [`box_union_vertices`] gives the vertices under any [`DegreeConvention`], including the
+//!   paper's; [`rect_union_corners`] is the 2D algorithm alone.
+//! - [`parse_boxes`] reads the box text format, [`read_vox`] MagicaVoxel files.
+//!
+//! # Mesh output
+//! [`Mesh`](crate::Mesh) holds simple polygons only, so [`BRep::to_mesh`] writes a face without
+//! holes as one polygon and triangulates a face with holes (or a weakly simple outer loop);
+//! [`BRep`] itself is the polygon-with-holes representation, for writers that can hold holes.
 //!
 //! # Numeric model
 //! Steps 1–3 only compare input coordinates: they are exact for every finite f64. Step 4 uses
