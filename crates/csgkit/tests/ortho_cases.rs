@@ -542,3 +542,11 @@ fn manifold_mode_splits_a_sheet_edge_at_its_midpoints() {
     assert_eq!(chi % 2, 0);
     assert_eq!(closed_six_volume(&out.mesh), 6.0 * 8.0);
 }
+
+#[test]
+fn an_edited_brep_with_a_missing_vertex_is_an_error_not_a_panic() {
+    let mut brep = box_union(&boxes(&[[0, 1, 0, 1, 0, 1]])).unwrap();
+    brep.faces[0].outer[0] = 99;
+    let err = brep.to_mesh(MeshOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("missing vertex"), "{err}");
+}

@@ -107,6 +107,13 @@ pub enum OrthoError {
         /// The number of materials.
         materials: usize,
     },
+    /// A [`BRep`] given to [`BRep::to_mesh`] breaks its invariants (its fields are public, so
+    /// a caller may have edited it).
+    #[error("invalid B-rep: {reason}")]
+    InvalidBRep {
+        /// The first broken invariant, from [`BRep::check_invariants`].
+        reason: String,
+    },
     /// The progress callback asked to stop.
     #[error("cancelled")]
     Cancelled,

@@ -50,8 +50,11 @@ impl BRep {
     /// reverse; non-manifold edges carry four faces.
     ///
     /// # Errors
+    /// [`OrthoError::InvalidBRep`] if the B-rep breaks [`BRep::check_invariants`],
     /// [`OrthoError::Triangulation`] if spade rejects a coordinate (outside its range).
     pub fn to_mesh(&self, options: MeshOptions) -> Result<MeshOutput, OrthoError> {
+        self.check_invariants()
+            .map_err(|reason| OrthoError::InvalidBRep { reason })?;
         if options.manifold {
             return self.to_manifold_mesh();
         }
@@ -164,6 +167,10 @@ impl BRep {
     /// # Errors
     /// [`OrthoError::Triangulation`] if spade rejects a coordinate or the result does not have
     /// n + 2h − 2 triangles.
+    ///
+    /// # Panics
+    /// If `f` is not a face index, or a loop names a missing vertex (see
+    /// [`BRep::check_invariants`]).
     pub fn triangulate_face(&self, f: usize) -> Result<Vec<[u32; 3]>, OrthoError> {
         let face = &self.faces[f];
         let fail = |reason: String| OrthoError::Triangulation { face: f, reason };
