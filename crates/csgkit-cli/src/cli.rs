@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use crate::commands;
+use crate::commands::{self, boxes, demo};
 
 /// Exact boolean operations on 3D solids.
 #[derive(Parser, Debug)]
@@ -28,6 +28,10 @@ enum Command {
                             csgkit check --json part.stl"
     )]
     Check(commands::check::CheckArgs),
+    /// The exact boundary of a union of axis-aligned boxes (.vox or a box text file).
+    Boxes(boxes::BoxesArgs),
+    /// Runs the engine on built-in data and writes its outputs.
+    Demo(demo::DemoArgs),
 }
 
 /// Parses the command line and runs the chosen subcommand.
@@ -36,5 +40,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Info(args) => commands::info::run(&args),
         Command::Check(args) => commands::check::run(&args),
+        Command::Boxes(args) => boxes::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Demo(args) => demo::run(&args).map(|()| ExitCode::SUCCESS),
     }
 }

@@ -1,7 +1,9 @@
 //! One module per subcommand; each exposes its clap arguments and a `run` function that
 //! returns the process exit code.
 
+pub mod boxes;
 pub mod check;
+pub mod demo;
 pub mod info;
 
 use std::path::Path;
