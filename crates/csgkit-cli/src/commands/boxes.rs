@@ -5,9 +5,7 @@
 //! colours; `--per-material` writes one solid per colour instead of one solid with coloured
 //! faces.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
@@ -17,6 +15,11 @@ use csgkit::ortho::{
     parse_boxes, per_material_mesh, read_vox,
 };
 use csgkit::{Mesh, Rgba, WriteOptions, write_mesh};
+
+use crate::progress::StageBar;
+
+/// Below this many boxes the union ends before a progress bar would help.
+const PROGRESS_MIN_BOXES: usize = 50_000;
 
 /// Arguments of `csgkit boxes`.
 #[derive(Args, Debug, Clone)]
@@ -157,10 +160,13 @@ fn build_mesh(
             solids
         }
         (materials, _) => {
-            let bar = ProgressBar::new(input.boxes.len());
-            let show = |stage: Stage, done: usize, total: usize| bar.show(stage, done, total);
+            let bar = StageBar::new(input.boxes.len(), PROGRESS_MIN_BOXES);
+            let show = |stage: Stage, done: usize, total: usize| match &bar {
+                Some(bar) => bar.update(stage_name(stage), done, total),
+                None => true,
+            };
             let (brep, stages) = box_union_timed(&input.boxes, materials.as_deref(), Some(&show))?;
-            bar.finish();
+            bar.inspect(StageBar::finish);
             report.stages = stages;
             vec![(0, brep)]
         }
@@ -180,53 +186,6 @@ fn build_mesh(
     };
     report.mesh_seconds = clock.elapsed().as_secs_f64();
     Ok(out)
-}
-
-/// A one-line progress bar on stderr, shown only on a terminal and for inputs large enough
-/// to take a noticeable time.
-struct ProgressBar {
-    enabled: bool,
-    /// The last percentage drawn, per stage (0 = sweep, 1 = loops), plus one.
-    last: [AtomicUsize; 2],
-}
-
-impl ProgressBar {
-    const MIN_BOXES: usize = 50_000;
-
-    fn new(boxes: usize) -> Self {
-        Self {
-            enabled: boxes >= Self::MIN_BOXES && std::io::stderr().is_terminal(),
-            last: [AtomicUsize::new(0), AtomicUsize::new(0)],
-        }
-    }
-
-    /// Redraws when the percentage of `stage` grows; never cancels.
-    fn show(&self, stage: Stage, done: usize, total: usize) -> bool {
-        if !self.enabled || total == 0 {
-            return true;
-        }
-        let (slot, name) = match stage {
-            Stage::Sweep => (0, "sweep"),
-            _ => (1, "loops"),
-        };
-        let percent = 100 * done / total + 1;
-        if self.last[slot].fetch_max(percent, Ordering::Relaxed) < percent {
-            let filled = (percent - 1) / 5;
-            eprint!(
-                "\r{name:>5} [{}{}] {:>3}%",
-                "#".repeat(filled),
-                " ".repeat(20 - filled),
-                percent - 1
-            );
-        }
-        true
-    }
-
-    fn finish(&self) {
-        if self.enabled {
-            eprintln!();
-        }
-    }
 }
 
 /// Gives every face the palette colour of its material.
@@ -267,4 +226,12 @@ fn stats_json(input: &Input, r: &Report, mesh: &Mesh, op_seconds: f64) -> serde_
         "write_seconds": r.write_seconds,
         "op_seconds": op_seconds,
     })
+}
+
+/// The bar label of a stage of the box union.
+fn stage_name(stage: Stage) -> &'static str {
+    match stage {
+        Stage::Sweep => "sweep",
+        _ => "loops",
+    }
 }
