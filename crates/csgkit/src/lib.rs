@@ -20,6 +20,7 @@
 
 mod index;
 pub mod io;
+pub mod kernel;
 pub mod mesh;
 
 pub use index::{Aabb, Bvh};
