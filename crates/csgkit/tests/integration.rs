@@ -6,3 +6,5 @@ mod util;
 mod io_formats;
 // Truncated, corrupted and random bytes make no reader panic.
 mod io_fuzz;
+// Exact self-intersection counts agree with the manifest's reference.
+mod self_intersection;
