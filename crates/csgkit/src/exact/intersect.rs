@@ -500,3 +500,6 @@ fn counterclockwise(mut corners: Vec<Contact>, a: &Triangle) -> Vec<Contact> {
     }
     corners
 }
+
+#[cfg(test)]
+mod tests;
