@@ -14,9 +14,7 @@ fn manifest(data: &Path) -> Vec<(String, usize, usize)> {
         std::fs::read_to_string(data.join("manifest.json")).expect("manifest.json is readable");
     let json: serde_json::Value = serde_json::from_str(&text).expect("manifest.json is JSON");
     let count = |v: &serde_json::Value, key: &str| {
-        v[key]
-            .as_u64()
-            .unwrap_or_else(|| panic!("measured.{key}")) as usize
+        v[key].as_u64().unwrap_or_else(|| panic!("measured.{key}")) as usize
     };
     json["meshes"]
         .as_array()

@@ -84,28 +84,38 @@ impl Triangle {
         }
         let [p, q, r] = positions.map(Point::Explicit);
         // An f64 estimate of the normal picks the preferred axis; the exact test decides.
-        let (u, v) = (sub(positions[1], positions[0]), sub(positions[2], positions[0]));
+        let (u, v) = (
+            sub(positions[1], positions[0]),
+            sub(positions[2], positions[0]),
+        );
         let normal = [
             u[1] * v[2] - u[2] * v[1],
             u[2] * v[0] - u[0] * v[2],
             u[0] * v[1] - u[1] * v[0],
         ];
         let first = Axis::of_largest(normal);
-        [first, Axis::X, Axis::Y, Axis::Z].into_iter().find_map(|drop| {
-            let turn = orient2d_projected(&p, &q, &r, drop);
-            (turn != Sign::Zero).then_some(Triangle {
-                id,
-                vertices,
-                positions,
-                drop,
-                turn,
+        [first, Axis::X, Axis::Y, Axis::Z]
+            .into_iter()
+            .find_map(|drop| {
+                let turn = orient2d_projected(&p, &q, &r, drop);
+                (turn != Sign::Zero).then_some(Triangle {
+                    id,
+                    vertices,
+                    positions,
+                    drop,
+                    turn,
+                })
             })
-        })
     }
 
     /// The same triangle with another id.
     pub(crate) fn with_id(self, id: u32) -> Triangle {
         Triangle { id, ..self }
+    }
+
+    /// The coordinate dropped for 2D tests in the triangle's plane.
+    pub(crate) fn drop_axis(&self) -> Axis {
+        self.drop
     }
 
     /// The caller's id of this triangle.
@@ -328,7 +338,12 @@ fn first_axis(p: &Point, q: &Point) -> Option<Axis> {
 
 /// Locates `x` on the chord `c` of triangle `t` (ends sorted along `axis`): the feature of
 /// `t` and, when `x` is an end of `c`, that end's point.
-fn on_chord(x: &Point, c: &[End; 2], t_chord_inside: Feature, axis: Axis) -> Option<(Feature, Option<Point>)> {
+fn on_chord(
+    x: &Point,
+    c: &[End; 2],
+    t_chord_inside: Feature,
+    axis: Axis,
+) -> Option<(Feature, Option<Point>)> {
     let lo = compare_along(x, &c[0].point, axis);
     if lo == Ordering::Equal {
         return Some((c[0].own.feature(), Some(c[0].point)));

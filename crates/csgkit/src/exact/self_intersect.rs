@@ -36,6 +36,7 @@ use rustc_hash::FxHashMap;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
+use crate::kernel::{Point, Point3, Sign, orient2d_projected, orient3d};
 use crate::mesh::{FaceId, Mesh};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).
@@ -113,12 +114,32 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
 }
 
 /// Whether a pair of triangles of one mesh counts as intersecting (libigl's rules).
+///
+/// Neighbours are most candidate pairs, so they are decided by exact tests on explicit points
+/// without building intersection points: a pair sharing an edge counts only when coplanar and
+/// folded over ([`folded_over`]); coplanar triangles sharing one vertex count when their
+/// corners there overlap ([`wedges_overlap`]); non-coplanar ones meet only at the vertex when
+/// the other two vertices of either triangle lie strictly on one side of the other's plane.
+/// The rest goes to [`intersect_triangles`].
 fn counts(a: &Triangle, b: &Triangle) -> bool {
-    let shared = a
-        .vertices()
-        .iter()
-        .filter(|v| b.vertices().contains(v))
-        .count();
+    let (va, vb) = (a.vertices(), b.vertices());
+    let shared = va.iter().filter(|v| vb.contains(v)).count();
+    let b_off = unshared_signs(b, &va, &a.positions());
+    let coplanar = b_off.iter().flatten().all(|&s| s == Sign::Zero);
+    match shared {
+        2 => return coplanar && folded_over(a, b),
+        3 => return false,
+        1 if coplanar => return wedges_overlap(a, b),
+        1 if one_sided(&b_off) || one_sided(&unshared_signs(a, &vb, &b.positions())) => {
+            return false;
+        }
+        _ => {}
+    }
+    by_classification(a, b, shared)
+}
+
+/// libigl's rules applied to the full classification (for pairs sharing no edge).
+fn by_classification(a: &Triangle, b: &Triangle, shared: usize) -> bool {
     let found = intersect_triangles(a, b);
     match shared {
         0 => !matches!(found, Intersection::Disjoint),
@@ -129,5 +150,128 @@ fn counts(a: &Triangle, b: &Triangle) -> bool {
         ),
         2 => matches!(found, Intersection::CoplanarOverlap(_)),
         _ => false,
+    }
+}
+
+/// [`orient3d`] against `plane` of each vertex of `t` that is not in `shared_with`.
+fn unshared_signs(t: &Triangle, shared_with: &[u32; 3], plane: &[Point3; 3]) -> [Option<Sign>; 3] {
+    let (v, p) = (t.vertices(), t.positions());
+    [0, 1, 2].map(|i| {
+        (!shared_with.contains(&v[i])).then(|| orient3d(plane[0], plane[1], plane[2], p[i]))
+    })
+}
+
+/// True when the given signs are all equal and nonzero.
+fn one_sided(signs: &[Option<Sign>; 3]) -> bool {
+    let mut s = signs.iter().flatten();
+    s.next()
+        .is_some_and(|&first| first != Sign::Zero && s.all(|&x| x == first))
+}
+
+/// `a` and `b` share one vertex `v` and are coplanar: whether they meet beyond `v`. Both are
+/// convex, so they do exactly when one's corner at `v` contains a ray along an edge of the
+/// other (two angular sectors below 180° overlap only so).
+fn wedges_overlap(a: &Triangle, b: &Triangle) -> bool {
+    let drop = a.drop_axis();
+    let corner = |t: &Triangle, other: &Triangle| {
+        let (v, p) = (t.vertices(), t.positions().map(Point::Explicit));
+        let k = (0..3)
+            .find(|&i| other.vertices().contains(&v[i]))
+            .unwrap_or(0);
+        [p[k], p[(k + 1) % 3], p[(k + 2) % 3]]
+    };
+    let contains = |[v, u, w]: [Point; 3], d: &Point| {
+        let turn = orient2d_projected(&v, &u, &w, drop);
+        orient2d_projected(&v, &u, d, drop).times(turn) != Sign::Negative
+            && orient2d_projected(&v, d, &w, drop).times(turn) != Sign::Negative
+    };
+    let (ca, cb) = (corner(a, b), corner(b, a));
+    contains(ca, &cb[1]) || contains(ca, &cb[2]) || contains(cb, &ca[1]) || contains(cb, &ca[2])
+}
+
+/// `a` and `b` share an edge and are coplanar: whether their third vertices lie on the same
+/// side of the shared edge, so that they overlap with positive area.
+fn folded_over(a: &Triangle, b: &Triangle) -> bool {
+    let drop = a.drop_axis();
+    let (v, p) = (a.vertices(), a.positions().map(Point::Explicit));
+    let Some(k) = (0..3).find(|&i| !b.vertices().contains(&v[i])) else {
+        return false;
+    };
+    let (s0, s1) = (&p[(k + 1) % 3], &p[(k + 2) % 3]);
+    let third = (0..3)
+        .find(|&i| !v.contains(&b.vertices()[i]))
+        .map(|i| Point::Explicit(b.positions()[i]));
+    third.is_some_and(|q| {
+        orient2d_projected(s0, s1, &p[k], drop) == orient2d_projected(s0, s1, &q, drop)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    fn small_point() -> impl Strategy<Value = Point3> {
+        [-2i32..=2, -2i32..=2, -2i32..=1].prop_map(|p| p.map(f64::from))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+
+        /// The shortcuts for neighbours agree with the rules applied to the classification.
+        #[test]
+        fn shortcuts_agree_with_classification(
+            a in [small_point(), small_point(), small_point()],
+            b in [small_point(), small_point(), small_point()],
+            share in 0usize..=2,
+        ) {
+            let ids_b = [[3, 4, 5], [0, 4, 5], [1, 0, 5]][share];
+            let mut pb = b;
+            for (k, &id) in ids_b.iter().enumerate() {
+                if id < 3 {
+                    pb[k] = a[id as usize];
+                }
+            }
+            let (Some(ta), Some(tb)) = (Triangle::new(0, [0, 1, 2], a), Triangle::new(1, ids_b, pb))
+            else {
+                return Ok(());
+            };
+            prop_assert_eq!(counts(&ta, &tb), by_classification(&ta, &tb, share));
+            prop_assert_eq!(counts(&tb, &ta), by_classification(&tb, &ta, share));
+        }
+    }
+
+    #[test]
+    fn polygon_fans_and_duplicates_do_not_count() {
+        // Face 0: a square; its two fan triangles share an edge (one face: no pair). Face 1: a triangle crossing the quad. Face 2: a copy of face 1 (three shared
+        // vertices: never counted). Welding makes vertex 7 the same as vertex 4.
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [4.0, 0.0, 0.0],
+            [4.0, 4.0, 0.0],
+            [0.0, 4.0, 0.0],
+            [3.0, 0.5, -1.0],
+            [3.0, 0.5, 1.0],
+            [3.5, 0.1, 1.0],
+            [3.0, 0.5, -1.0],
+        ];
+        let parts = crate::MeshParts {
+            positions,
+            corners: vec![0, 1, 2, 3, 4, 5, 6, 7, 5, 6],
+            face_starts: Some(vec![0, 4, 7, 10]),
+            ..crate::MeshParts::default()
+        };
+        let mesh = Mesh::from_parts(parts).expect("valid mesh");
+        let found = self_intersections(&mesh);
+        let ids = |f: &[usize]| f.iter().map(|&i| FaceId::new(i)).collect::<Vec<_>>();
+        assert_eq!(found.faces, ids(&[0, 1, 2]));
+        assert_eq!(
+            found.pairs,
+            vec![
+                (FaceId::new(0), FaceId::new(1)),
+                (FaceId::new(0), FaceId::new(2))
+            ]
+        );
     }
 }

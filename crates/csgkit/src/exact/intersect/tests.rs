@@ -57,7 +57,11 @@ fn rational(p: &Point) -> Q3 {
             let n = planes.each_ref().map(qnormal);
             let d = [0, 1, 2].map(|i| qdot(&n[i], &planes[i][0]));
             let w = qdot(&n[0], &qcross(&n[1], &n[2]));
-            let c = [qcross(&n[1], &n[2]), qcross(&n[2], &n[0]), qcross(&n[0], &n[1])];
+            let c = [
+                qcross(&n[1], &n[2]),
+                qcross(&n[2], &n[0]),
+                qcross(&n[0], &n[1]),
+            ];
             [0, 1, 2].map(|k| (&d[0] * &c[0][k] + &d[1] * &c[1][k] + &d[2] * &c[2][k]) / &w)
         }
     }
@@ -106,7 +110,13 @@ fn oracle(a: &[Point3; 3], b: &[Point3; 3]) -> (Kind, Vec<Q3>) {
         let m = qcross(&nb, &qsub(&tb[(j + 1) % 3], &tb[j]));
         let o = tb[j].clone();
         let flip = side(&m, &o, &tb[(j + 2) % 3]).is_negative();
-        poly = clip(&poly, &|x| if flip { -side(&m, &o, x) } else { side(&m, &o, x) });
+        poly = clip(&poly, &|x| {
+            if flip {
+                -side(&m, &o, x)
+            } else {
+                side(&m, &o, x)
+            }
+        });
     }
     let mut points: Vec<Q3> = Vec::new();
     for p in poly {
@@ -165,10 +175,23 @@ fn check(a: [Point3; 3], b: [Point3; 3], ids_b: [u32; 3]) -> Result<(), TestCase
         let result = intersect_triangles(x, y);
         let (got_kind, contacts) = kind_and_points(&result);
         prop_assert_eq!(&got_kind, &kind, "{:?} {:?} -> {:?}", pa, pb, result);
-        prop_assert_eq!(contacts.len(), expected.len(), "{:?} {:?} -> {:?}", pa, pb, result);
+        prop_assert_eq!(
+            contacts.len(),
+            expected.len(),
+            "{:?} {:?} -> {:?}",
+            pa,
+            pb,
+            result
+        );
         for c in contacts {
             let p = rational(&c.point);
-            prop_assert!(expected.contains(&p), "{:?} {:?}: point {:?} not in oracle", pa, pb, c);
+            prop_assert!(
+                expected.contains(&p),
+                "{:?} {:?}: point {:?} not in oracle",
+                pa,
+                pb,
+                c
+            );
             prop_assert_eq!(Some(c.on_a), rational_feature(&p, &pa.map(q3)));
             prop_assert_eq!(Some(c.on_b), rational_feature(&p, &pb.map(q3)));
         }
@@ -259,7 +282,10 @@ fn named_cases() {
     let ta = t(a, [0, 1, 2]);
     // Crossing: a vertical triangle through the inside of `a`.
     let b = [[1.0, 1.0, -1.0], [1.0, 1.0, 1.0], [2.0, 1.0, 1.0]];
-    assert!(matches!(intersect_triangles(&ta, &t(b, [3, 4, 5])), Intersection::Crossing(_)));
+    assert!(matches!(
+        intersect_triangles(&ta, &t(b, [3, 4, 5])),
+        Intersection::Crossing(_)
+    ));
     // Shared vertex only.
     let b = [[0.0, 0.0, 0.0], [-1.0, 0.0, 1.0], [0.0, -1.0, 1.0]];
     match intersect_triangles(&ta, &t(b, [0, 4, 5])) {
