@@ -221,7 +221,47 @@ pub fn intersect_triangles(a: &Triangle, b: &Triangle) -> Intersection {
     if sa == [Sign::Zero; 3] {
         return coplanar(a, b);
     }
+    if !sa.contains(&Sign::Zero) && !sb.contains(&Sign::Zero) && separated(a, b, &sa, &sb) {
+        return Intersection::Disjoint;
+    }
     transversal(a, b, &sa, &sb)
+}
+
+/// Guigue & Devillers' test ("Fast and robust triangle–triangle overlap test using
+/// orientation predicates", 2003) for two triangles that each have vertices strictly on both
+/// sides of the other's plane and none on it: true when the chords are disjoint on the common
+/// line, decided by two [`orient3d`] on input vertices, without intersection points.
+///
+/// Each triangle is turned so that its lone vertex (alone on its side) comes first; when the
+/// lone vertex of one is below the other's plane, the other's orientation is reversed.
+fn separated(a: &Triangle, b: &Triangle, sa: &[Sign; 3], sb: &[Sign; 3]) -> bool {
+    // Guigue–Devillers' signs are positive above the plane: the opposite of `orient3d`.
+    let above = |s: Sign| s == Sign::Negative;
+    let ([p1, q1, r1], [p2, q2, r2]) = (a.positions, b.positions);
+    let [dp, dq, dr] = sb.map(above);
+    let b_up = (p2, q2, r2, dp, dq, dr);
+    let b_down = (p2, r2, q2, dp, dr, dq);
+    let (t1, t2) = match sa.map(above) {
+        [true, true, _] => ([r1, p1, q1], b_down),
+        [true, false, true] => ([q1, r1, p1], b_down),
+        [true, false, false] => ([p1, q1, r1], b_up),
+        [false, false, _] => ([r1, p1, q1], b_up),
+        [false, true, false] => ([q1, r1, p1], b_up),
+        [false, true, true] => ([p1, q1, r1], b_down),
+    };
+    let [p1, q1, r1] = t1;
+    let (p2, q2, r2, dp, dq, dr) = t2;
+    let chords_apart = |[p1, q1, r1]: [Point3; 3], [p2, q2, r2]: [Point3; 3]| {
+        orient3d(q1, p2, p1, q2) == Sign::Negative || orient3d(p1, p2, r1, r2) == Sign::Negative
+    };
+    match (dp, dq, dr) {
+        (true, true, _) => chords_apart([p1, r1, q1], [r2, p2, q2]),
+        (true, false, true) => chords_apart([p1, r1, q1], [q2, r2, p2]),
+        (true, false, false) => chords_apart([p1, q1, r1], [p2, q2, r2]),
+        (false, false, _) => chords_apart([p1, q1, r1], [r2, p2, q2]),
+        (false, true, false) => chords_apart([p1, q1, r1], [q2, r2, p2]),
+        (false, true, true) => chords_apart([p1, r1, q1], [p2, q2, r2]),
+    }
 }
 
 /// [`orient3d`] of each vertex of `t` against the plane of `other`.

@@ -301,3 +301,31 @@ fn named_cases() {
     // Degenerate triangles are refused.
     assert!(Triangle::new(0, [0, 1, 2], [[0.0; 3], [1.0; 3], [2.0; 3]]).is_none());
 }
+
+#[test]
+fn orientation_test_separates_chords_without_intersection_points() {
+    let a = Triangle::new(
+        0,
+        [0, 1, 2],
+        [[5.0, 0.5, -1.0], [5.0, 0.5, 1.0], [6.0, 0.6, 1.0]],
+    );
+    let b = Triangle::new(
+        1,
+        [3, 4, 5],
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    );
+    let (a, b) = (a.expect("non-degenerate"), b.expect("non-degenerate"));
+    let (sa, sb) = (plane_signs(&a, &b), plane_signs(&b, &a));
+    assert!(straddles(&sa) && straddles(&sb) && !sa.contains(&Sign::Zero));
+    assert!(separated(&a, &b, &sa, &sb));
+    assert!(separated(&b, &a, &sb, &sa));
+    // Crossing triangles are not separated.
+    let c = Triangle::new(
+        2,
+        [6, 7, 8],
+        [[0.2, 0.2, -1.0], [0.2, 0.3, 1.0], [0.4, 0.2, 1.0]],
+    );
+    let c = c.expect("non-degenerate");
+    let (sc, sbc) = (plane_signs(&c, &b), plane_signs(&b, &c));
+    assert!(!separated(&c, &b, &sc, &sbc));
+}
