@@ -124,6 +124,9 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
 fn counts(a: &Triangle, b: &Triangle) -> bool {
     let (va, vb) = (a.vertices(), b.vertices());
     let shared = va.iter().filter(|v| vb.contains(v)).count();
+    if shared == 0 {
+        return by_classification(a, b, shared);
+    }
     let b_off = unshared_signs(b, &va, &a.positions());
     let coplanar = b_off.iter().flatten().all(|&s| s == Sign::Zero);
     match shared {
