@@ -209,6 +209,22 @@ pub enum Intersection {
 }
 
 /// The exact intersection of `a` and `b` (see the [module docs](self) for the algorithm).
+///
+/// # Example
+/// A vertical triangle pierces a horizontal one; an edge of each crosses the other's inside.
+/// ```
+/// use csgkit::{Feature, Intersection, PointKey, Triangle, intersect_triangles};
+/// let a = Triangle::new(0, [0, 1, 2], [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]]);
+/// let b = Triangle::new(1, [3, 4, 5], [[1.0, 1.0, -1.0], [1.0, 1.0, 1.0], [2.0, 1.0, 1.0]]);
+/// let (a, b) = (a.expect("non-degenerate"), b.expect("non-degenerate"));
+/// let Intersection::Crossing([start, end]) = intersect_triangles(&a, &b) else {
+///     panic!("the triangles cross");
+/// };
+/// // Edge 3–4 of `b` meets the inside of `a` at (1, 1, 0).
+/// assert_eq!(start.key, PointKey::EdgeTriangle { edge: [3, 4], triangle: 0 });
+/// assert_eq!((start.on_a, start.on_b), (Feature::Face, Feature::Edge(0)));
+/// assert_eq!(end.on_a, Feature::Face);
+/// ```
 pub fn intersect_triangles(a: &Triangle, b: &Triangle) -> Intersection {
     let sa = plane_signs(a, b);
     if one_side(&sa) {

@@ -20,8 +20,8 @@
 //! Only **intersect** exists so far; the exact predicates it uses are in
 //! [`kernel`](crate::kernel).
 
-mod intersect;
-mod self_intersect;
+pub mod intersect;
+pub mod self_intersect;
 
 pub use intersect::{
     Contact, Feature, Intersection, PointKey, Triangle, TriangleEdge, intersect_triangles,
