@@ -59,6 +59,9 @@
 //! A predicate is the sign of a homogeneous polynomial in the inputs (a determinant of
 //! homogeneous coordinates, times the signs of the `W`s, which are fixed when the point is
 //! built). It is evaluated by a cascade; the first stage that can decide answers:
+//! 0. **Shortcuts** — all-explicit arguments go to `robust` (for nonzero magnitudes in
+//!    `[2^-200, 2^200)`, where it cannot overflow or underflow; otherwise to stage 1); an
+//!    implicit point against a plane that defines it is on it, by construction.
 //! 1. **Filter** — interval arithmetic with outward rounding (`interval.rs`): sound for every
 //!    finite input, including overflow (fails safe to "undecided") and gradual underflow.
 //!    Implicit points cache their interval coordinates, so the filter does not allocate.
@@ -67,6 +70,10 @@
 //!    so the sign is unchanged). Exact unless a product underflows, which is detected.
 //! 3. **Big integers** — every input is an integer times `2^e_min`; evaluation in `num-bigint`
 //!    is exact for every finite input.
+//!
+//! Cost (see `benches/README.md`): the filter answers a random LPI-against-plane query in
+//! about 100–200 ns, the exact stages a degenerate one in a few microseconds (expansions) to
+//! tens of microseconds (big integers, rare: wide bit spans or degree above 20).
 //!
 //! # Valid input range
 //! Every finite f64 ([`MAX_ALLOWED_VALUE`]): stages 1 and 3 have no range limit. NaN and
