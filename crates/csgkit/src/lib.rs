@@ -18,12 +18,17 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod exact;
 mod index;
 pub mod io;
 pub mod kernel;
 pub mod mesh;
 pub mod ortho;
 
+pub use exact::{
+    Contact, Feature, Intersection, PointKey, SelfIntersections, Triangle, TriangleEdge,
+    intersect_triangles, self_intersections,
+};
 pub use index::{Aabb, Bvh};
 pub use io::{
     Encoding, Format, LoadedMesh, Location, ParseError, ReadError, WriteError, WriteOptions,

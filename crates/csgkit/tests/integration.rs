@@ -14,3 +14,5 @@ mod ortho_cases;
 mod ortho_oracle;
 // The orthogonal engine on the shared MagicaVoxel models.
 mod ortho_vox;
+// Exact self-intersection counts agree with the manifest's reference.
+mod self_intersection;

@@ -1,0 +1,29 @@
+//! The exact mesh-boolean engine (`design/exact.md`): booleans on polygon meshes with every
+//! topological decision exact.
+//!
+//! # Pipeline plan
+//! Data flows forward through one module per stage (Freixas, Grau & Silva's subdivision,
+//! classification and reconstruction, made exact):
+//! 1. **ingest** — weld bit-identical vertices, fan-triangulate polygons keeping the face id,
+//!    drop exactly degenerate triangles, validate the operands, rescale by a power of two.
+//! 2. **broad** — candidate triangle pairs whose boxes overlap ([`Bvh`](crate::Bvh)).
+//! 3. **intersect** — exact triangle–triangle classification ([`intersect_triangles`]):
+//!    disjoint, touching at a point or along a segment, crossing, coplanar overlap; every
+//!    contact point is a typed kernel [`Point`](crate::kernel::Point) with a canonical
+//!    [`PointKey`]. Built on it: [`self_intersections`], the exact self-intersection check of
+//!    one mesh.
+//! 4. **split** — constrained triangulation of every triangle with its intersection segments.
+//! 5. **classify** — inside / outside / on of every patch against the other operands.
+//! 6. **select** — keep patches by the operation's table.
+//! 7. **assemble** — round implicit points once, build the output mesh with provenance.
+//!
+//! Only **intersect** exists so far; the exact predicates it uses are in
+//! [`kernel`](crate::kernel).
+
+pub mod intersect;
+pub mod self_intersect;
+
+pub use intersect::{
+    Contact, Feature, Intersection, PointKey, Triangle, TriangleEdge, intersect_triangles,
+};
+pub use self_intersect::{SelfIntersections, self_intersections};
