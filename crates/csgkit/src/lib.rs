@@ -18,11 +18,13 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod exact;
 mod index;
 pub mod io;
 pub mod kernel;
 pub mod mesh;
 
+pub use exact::{Split, SplitError, split_triangle};
 pub use index::{Aabb, Bvh};
 pub use io::{
     Encoding, Format, LoadedMesh, Location, ParseError, ReadError, WriteError, WriteOptions,
