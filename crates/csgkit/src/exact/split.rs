@@ -118,8 +118,28 @@ pub enum SplitError {
     },
 }
 
-/// Triangulates `corners` with `points` and the constraint `segments` (see the
-/// [module docs](self) for the contract and vertex ids).
+/// Triangulates the triangle `corners` with `points` on it and the constraint `segments`:
+/// the split stage of the exact engine.
+///
+/// Vertex ids number the corners `0, 1, 2` and `points[i]` as `3 + i`; `segments` and the
+/// output use them. Every point must lie in the closed triangle, exactly on its plane. The
+/// output triangles cover the triangle once, are oriented like it, use every distinct point as
+/// a vertex (a point on an edge splits it) and contain every segment as a chain of edges. A
+/// point equal to an earlier vertex is merged into it and reported in [`Split::merged`].
+///
+/// # Example
+/// A segment across the triangle, from a point on one edge to an implicit point (an edge of
+/// another mesh crossing the triangle):
+/// ```
+/// use csgkit::kernel::Point;
+/// let tri = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]];
+/// let x = Point::lpi([1.0, 1.0, -1.0], [1.0, 2.0, 2.0], tri[0], tri[1], tri[2]).unwrap();
+/// let points = [Point::Explicit([2.0, 0.0, 0.0]), x];
+/// let split = csgkit::split_triangle(tri, &points, &[[3, 4]]).unwrap();
+/// // Two points, one on the boundary: 2 * 2 - 1 + 1 triangles.
+/// assert_eq!(split.triangles.len(), 4);
+/// assert!(split.triangles.iter().any(|t| t.contains(&3) && t.contains(&4)));
+/// ```
 ///
 /// # Errors
 /// [`SplitError::DegenerateTriangle`] for collinear corners, [`SplitError::PointOutside`]

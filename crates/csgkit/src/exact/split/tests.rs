@@ -335,21 +335,22 @@ fn corners() -> impl Strategy<Value = [Point3; 3]> {
     })
 }
 
-/// A grid point `(i, j) / D` in the closed triangle, from two random numbers.
-fn grid_st(i: i128, j: i128) -> (i128, i128) {
-    let i = i.rem_euclid(D + 1);
-    (i, j.rem_euclid(D + 1 - i))
+/// A grid point `(i, j) / d` in the closed triangle, from two random numbers.
+fn grid_st(i: i128, j: i128, d: i128) -> (i128, i128) {
+    let i = i.rem_euclid(d + 1);
+    (i, j.rem_euclid(d + 1 - i))
 }
 
 /// Raw numbers for one LPI point: two grid points, a direction tweak, the weights.
 type RawLpi = (i128, i128, i128, i128, (usize, i8), (i128, i128));
 
-/// Builds a case from raw random numbers: grid points, then LPI points between grid points.
-fn random_case(c: [Point3; 3], grid: &[(i128, i128)], lpis: &[RawLpi]) -> Case {
+/// Builds a case from raw random numbers: grid points `(i, j) / d`, then LPI points between
+/// grid points. `d` is a power of two, so every grid point is exact in f64.
+fn random_case(c: [Point3; 3], d: i128, grid: &[(i128, i128)], lpis: &[RawLpi]) -> Case {
     let mut case = Case::new(c);
     for &(i, j) in grid {
-        let (i, j) = grid_st(i, j);
-        case.grid(i, j, D);
+        let (i, j) = grid_st(i, j, d);
+        case.grid(i, j, d);
     }
     let [a, b, cc] = c;
     let (u, v) = (sub(b, a), sub(cc, a));
@@ -359,8 +360,8 @@ fn random_case(c: [Point3; 3], grid: &[(i128, i128)], lpis: &[RawLpi]) -> Case {
         u[0] * v[1] - u[1] * v[0],
     ];
     for &(i1, j1, i2, j2, (k, r), (al, be)) in lpis {
-        let ((i1, j1), (i2, j2)) = (grid_st(i1, j1), grid_st(i2, j2));
-        let g = |i, j| [q(i, D), q(j, D)];
+        let ((i1, j1), (i2, j2)) = (grid_st(i1, j1, d), grid_st(i2, j2, d));
+        let g = |i, j| [q(i, d), q(j, d)];
         // `m = n + r e_k` with `|r| <= 2`: `n · m = |n|^2 + r n_k > 0`, since the components
         // of `n` are multiples of 64. So the two ends are on opposite sides of the plane.
         let mut m = n;
@@ -407,7 +408,7 @@ proptest! {
         grid in prop::collection::vec((0i128..100, 0i128..100), 0..12),
         raw in prop::collection::vec((0u32..100, 0u32..100), 0..10),
     ) {
-        let case = random_case(c, &grid, &[]);
+        let case = random_case(c, D, &grid, &[]);
         let segs = non_crossing(&case, &raw);
         case.check(&segs).unwrap();
     }
@@ -419,7 +420,7 @@ proptest! {
         lpis in prop::collection::vec(raw_lpi(), 0..6),
         raw in prop::collection::vec((0u32..100, 0u32..100), 0..8),
     ) {
-        let case = random_case(c, &grid, &lpis);
+        let case = random_case(c, D, &grid, &lpis);
         let segs = non_crossing(&case, &raw);
         case.check(&segs).unwrap();
     }
@@ -431,7 +432,7 @@ proptest! {
         grid in prop::collection::vec((0i128..100, 0i128..100), 0..10),
         raw in prop::collection::vec((0u32..100, 0u32..100), 0..8),
     ) {
-        let case = random_case(c, &grid, &[]);
+        let case = random_case(c, D, &grid, &[]);
         let n = case.st.len() as u32;
         let segs: Vec<[u32; 2]> = raw.iter().map(|&(a, b)| [a % n, b % n]).collect();
         match case.check(&segs) {
@@ -444,4 +445,67 @@ proptest! {
             Err(e) => prop_assert!(false, "unexpected {e}"),
         }
     }
+}
+
+proptest! {
+    #![proptest_config(config(150, 0x7370_6c69_7400_0002))]
+
+    /// Many points on a finer grid: long walks, long segment corridors, big pseudo-polygons.
+    #[test]
+    fn random_many_points_and_segments(
+        c in corners(),
+        grid in prop::collection::vec((0i128..1000, 0i128..1000), 20..60),
+        lpis in prop::collection::vec(raw_lpi(), 0..8),
+        raw in prop::collection::vec((0u32..1000, 0u32..1000), 10..60),
+    ) {
+        let case = random_case(c, 64, &grid, &lpis);
+        let segs = non_crossing(&case, &raw);
+        case.check(&segs).unwrap();
+    }
+}
+
+#[test]
+fn projection_flips_when_the_dropped_component_is_negative() {
+    let p = |c: [Point3; 3]| Projection::new(&c.map(Point::Explicit)).unwrap();
+    let flat = flat().corners;
+    assert!(!p(flat).flip);
+    assert!(p([flat[0], flat[2], flat[1]]).flip);
+    assert_eq!(p(tilted().corners).drop, Axis::X);
+    assert!(p(tilted().corners).flip);
+}
+
+/// Two triangles sharing the edge `B C`, both given the same point on it, split it the same
+/// way: the boundary edges of one are the reversed boundary edges of the other.
+#[test]
+fn neighbours_stay_conforming() {
+    let (a, b, c, d) = (
+        [0.0, 0.0, 0.0],
+        [8.0, 0.0, 0.0],
+        [0.0, 8.0, 0.0],
+        [8.0, 8.0, 3.0],
+    );
+    let on_bc = [
+        Point::Explicit([4.0, 4.0, 0.0]),
+        Point::Explicit([2.0, 6.0, 0.0]),
+    ];
+    let first = split_triangle([a, b, c], &on_bc, &[]).unwrap();
+    let second = split_triangle([c, b, d], &[on_bc[1], on_bc[0]], &[]).unwrap();
+    // Global ids: B, C, the two points.
+    let g1 = |v: u32| [0, 10, 11, 20, 21][v as usize];
+    let g2 = |v: u32| [11, 10, 12, 21, 20][v as usize];
+    let on_shared = |x: u32| x == 10 || x == 11 || x >= 20;
+    let edges = |s: &Split, g: &dyn Fn(u32) -> u32| {
+        let mut e: Vec<(u32, u32)> = s
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |i| (g(t[i]), g(t[(i + 1) % 3]))))
+            .filter(|&(x, y)| on_shared(x) && on_shared(y))
+            .collect();
+        e.sort();
+        e
+    };
+    let mut reversed: Vec<(u32, u32)> = edges(&second, &g2).iter().map(|&(x, y)| (y, x)).collect();
+    reversed.sort();
+    assert_eq!(edges(&first, &g1), reversed);
+    assert_eq!(reversed.len(), 3);
 }
