@@ -253,6 +253,19 @@ pub(crate) struct Cdt<'a> {
     merged: Vec<[u32; 2]>,
     /// The walk's starting triangle.
     last: u32,
+    /// Scratch for [`Cdt::replace`].
+    rim: Vec<RimEdge>,
+    /// Scratch for [`Cdt::replace`].
+    ids: Vec<u32>,
+}
+
+/// An edge on the rim of the region [`Cdt::replace`] re-triangulates, with what lies across.
+#[derive(Clone, Copy, Debug)]
+struct RimEdge {
+    from: u32,
+    to: u32,
+    nbr: u32,
+    cons: u32,
 }
 
 impl<'a> Cdt<'a> {
@@ -282,6 +295,8 @@ impl<'a> Cdt<'a> {
             alias: (0..n).collect(),
             merged: Vec::new(),
             last: 0,
+            rim: Vec::new(),
+            ids: Vec::new(),
         };
         for p in 3..n {
             cdt.insert_point(p)?;
@@ -394,57 +409,74 @@ impl<'a> Cdt<'a> {
     /// `new` on the region's boundary takes the old neighbour and mark, an edge shared by two
     /// new triangles links them, any other edge is on the input triangle's boundary.
     fn replace(&mut self, old: &[u32], new: &[[u32; 3]]) {
-        // (from, to, neighbour, mark) for each boundary edge of the region.
-        let mut rim: Vec<(u32, u32, u32, u32)> = Vec::with_capacity(old.len() + 2);
+        // The scratch buffers live in `self` so that point insertion does not allocate.
+        let (mut rim, mut ids) = (std::mem::take(&mut self.rim), std::mem::take(&mut self.ids));
+        rim.clear();
+        ids.clear();
         for &t in old {
             let tri = self.tris[t as usize];
             for i in 0..3 {
                 if !old.contains(&tri.nbr[i]) {
                     let (a, b) = tri.edge(i);
-                    rim.push((a, b, tri.nbr[i], tri.cons[i]));
+                    rim.push(RimEdge {
+                        from: a,
+                        to: b,
+                        nbr: tri.nbr[i],
+                        cons: tri.cons[i],
+                    });
                 }
             }
         }
-        let ids: Vec<u32> = (0..new.len())
-            .map(|k| match old.get(k) {
-                Some(&t) => t,
-                None => {
-                    self.tris.push(Tri {
-                        v: [NONE; 3],
-                        nbr: [NONE; 3],
-                        cons: [NONE; 3],
-                    });
-                    self.tris.len() as u32 - 1
-                }
-            })
-            .collect();
-        for (k, &id) in ids.iter().enumerate() {
-            self.tris[id as usize].v = new[k];
+        for (k, &v) in new.iter().enumerate() {
+            let id = old.get(k).copied().unwrap_or_else(|| {
+                self.tris.push(Tri {
+                    v,
+                    nbr: [NONE; 3],
+                    cons: [NONE; 3],
+                });
+                self.tris.len() as u32 - 1
+            });
+            self.tris[id as usize].v = v;
+            ids.push(id);
         }
         for (k, &id) in ids.iter().enumerate() {
             for i in 0..3 {
-                let (a, b) = self.tris[id as usize].edge(i);
-                let (nbr, cons) =
-                    if let Some(&(_, _, n, c)) = rim.iter().find(|e| (e.0, e.1) == (a, b)) {
-                        if n != NONE {
-                            let back = self.tris[n as usize].edge_index(b, a);
-                            let j = back.expect("a neighbour has the reversed edge");
-                            self.tris[n as usize].nbr[j] = id;
-                        }
-                        (n, c)
-                    } else if let Some(m) =
-                        (0..new.len()).find(|&m| m != k && find_edge(new[m], b, a).is_some())
-                    {
-                        (ids[m], NONE)
-                    } else {
-                        (NONE, NONE)
-                    };
+                let link = self.link_edge(&rim, new, &ids, k, i);
                 let tri = &mut self.tris[id as usize];
-                tri.nbr[i] = nbr;
-                tri.cons[i] = cons;
+                (tri.nbr[i], tri.cons[i]) = link;
             }
         }
         self.last = ids[0];
+        (self.rim, self.ids) = (rim, ids);
+    }
+
+    /// The neighbour and mark of edge `i` of the new triangle `k` in [`Cdt::replace`]; also
+    /// points an old neighbour back at it.
+    fn link_edge(
+        &mut self,
+        rim: &[RimEdge],
+        new: &[[u32; 3]],
+        ids: &[u32],
+        k: usize,
+        i: usize,
+    ) -> (u32, u32) {
+        let id = ids[k];
+        let (a, b) = self.tris[id as usize].edge(i);
+        if let Some(e) = rim.iter().find(|e| (e.from, e.to) == (a, b)) {
+            if e.nbr != NONE {
+                let back = self.tris[e.nbr as usize].edge_index(b, a);
+                let j = back.expect("a neighbour has the reversed edge");
+                self.tris[e.nbr as usize].nbr[j] = id;
+            }
+            (e.nbr, e.cons)
+        } else if let Some(m) =
+            (0..new.len()).find(|&m| m != k && find_edge(new[m], b, a).is_some())
+        {
+            (ids[m], NONE)
+        } else {
+            // A half of a split boundary edge.
+            (NONE, NONE)
+        }
     }
 
     /// Step 3 for one segment: constrain the edges along `a → b`, splitting at the vertices
