@@ -65,7 +65,7 @@
 //! crosses many edges. The common case (0–4 points, a few segments) allocates the triangle
 //! vector, the id map and the output, and a few short-lived vectors per segment.
 
-use crate::kernel::{Axis, Point, Point3, Sign, orient2d_projected};
+use crate::kernel::{Axis, Point, Point3, Sign, orient2d_projected, orient3d_plane};
 
 #[cfg(test)]
 mod tests;
@@ -279,6 +279,12 @@ impl<'a> Cdt<'a> {
         if let Some(segment) = segments.iter().position(|s| s[0] >= n || s[1] >= n) {
             return Err(SplitError::SegmentOutOfRange { segment });
         }
+        debug_assert!(
+            points
+                .iter()
+                .all(|p| orient3d_plane(corners[0], corners[1], corners[2], p) == Sign::Zero),
+            "every point lies on the plane of the triangle"
+        );
         let corners = corners.map(Point::Explicit);
         let proj = Projection::new(&corners).ok_or(SplitError::DegenerateTriangle)?;
         let mut tris = Vec::with_capacity(1 + 2 * points.len());
