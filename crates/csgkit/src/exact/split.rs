@@ -60,9 +60,9 @@
 //! # Complexity
 //! With `n` points and `m` segments: point location is a walk (expected short for inserted
 //! points near each other), linear scan in the worst case, so `O(n^2)` worst. Each segment
-//! step scans the triangles for those around its current vertex (`O(n)`) and ear clipping is
-//! quadratic to cubic in the size of the pseudo-polygons, which are small unless a segment
-//! crosses many edges. The common case (0–4 points, a few segments) allocates the triangle
+//! step scans the triangles for those around its current vertex (`O(n)`); ear clipping a
+//! pseudo-polygon of `k` vertices costs `O(k^2)` orientation tests when its ears follow each
+//! other (a fan) and `O(k^3)` at worst; `k` is small unless a segment crosses many edges. The common case (0–4 points, a few segments) allocates the triangle
 //! vector, the id map and the output, and a few short-lived vectors per segment.
 
 use crate::kernel::{Axis, Point, Point3, Sign, orient2d_projected, orient3d_plane};
@@ -586,14 +586,20 @@ impl<'a> Cdt<'a> {
 
     /// Triangulates the counterclockwise simple polygon `poly` (consecutive collinear
     /// vertices allowed) by ear clipping, appending to `out`; consumes `poly`'s vertices.
+    ///
+    /// The search for the next ear starts beside the last one, where the polygon changed, so
+    /// a polygon whose ears follow each other (a fan) costs `O(k^2)` tests, not `O(k^3)`.
     fn ear_clip(&self, poly: &mut Vec<u32>, out: &mut Vec<[u32; 3]>) {
+        let mut start = 0;
         while poly.len() > 3 {
             let n = poly.len();
             let k = (0..n)
+                .map(|d| (start + d) % n)
                 .find(|&k| self.is_ear(poly, k))
                 .expect("a simple polygon with four or more vertices has an ear");
             out.push([poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]]);
             poly.remove(k);
+            start = (k + n - 2) % (n - 1);
         }
         out.push([poly[0], poly[1], poly[2]]);
     }

@@ -509,3 +509,16 @@ fn neighbours_stay_conforming() {
     assert_eq!(edges(&first, &g1), reversed);
     assert_eq!(reversed.len(), 3);
 }
+
+/// A segment that crosses a fan of 63 edges: a long corridor and two big pseudo-polygons.
+#[test]
+fn segment_across_a_fan() {
+    let mut case = flat();
+    for i in 1..64 {
+        case.grid(i, 0, 64);
+    }
+    let a = case.grid(0, 1, 64);
+    let b = case.grid(63, 1, 64);
+    let split = case.check(&[[a, b]]).unwrap();
+    assert_eq!(split.triangles.len(), 2 * 65 - 65 + 1);
+}
