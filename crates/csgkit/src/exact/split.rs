@@ -49,7 +49,7 @@
 //! [`Cdt::check_invariants`] (run by the tests and by `debug_assert!` at the end): every
 //! triangle has distinct vertices and positive orientation; neighbour links are symmetric
 //! across the same edge in opposite directions; an edge's constraint mark is the same on
-//! both sides. Points are all inserted before any segment, so no point insertion splits a
+//! both sides; every vertex that is not merged has a triangle in `vtri` that contains it. Points are all inserted before any segment, so no point insertion splits a
 //! constrained edge.
 //!
 //! # Numeric model
@@ -60,7 +60,8 @@
 //! # Complexity
 //! With `n` points and `m` segments: point location is a walk (expected short for inserted
 //! points near each other), linear scan in the worst case, so `O(n^2)` worst. Each segment
-//! step scans the triangles for those around its current vertex (`O(n)`); ear clipping a
+//! step rotates around its current vertex (`O(degree)`, from a triangle per vertex kept in
+//! `vtri`), walks the crossed triangles, and ear clipping a
 //! pseudo-polygon of `k` vertices costs `O(k^2)` orientation tests when its ears follow each
 //! other (a fan) and `O(k^3)` at worst; `k` is small unless a segment crosses many edges. The common case (0–4 points, a few segments) allocates the triangle
 //! vector, the id map and the output, and a few short-lived vectors per segment.
@@ -253,6 +254,8 @@ pub(crate) struct Cdt<'a> {
     merged: Vec<[u32; 2]>,
     /// The walk's starting triangle.
     last: u32,
+    /// `vtri[id]`: a triangle with vertex `id` ([`NONE`] until it is inserted).
+    vtri: Vec<u32>,
     /// Scratch for [`Cdt::replace`].
     rim: Vec<RimEdge>,
     /// Scratch for [`Cdt::replace`].
@@ -301,6 +304,7 @@ impl<'a> Cdt<'a> {
             alias: (0..n).collect(),
             merged: Vec::new(),
             last: 0,
+            vtri: (0..n).map(|v| if v < 3 { 0 } else { NONE }).collect(),
             rim: Vec::new(),
             ids: Vec::new(),
         };
@@ -443,6 +447,9 @@ impl<'a> Cdt<'a> {
                 self.tris.len() as u32 - 1
             });
             self.tris[id as usize].v = v;
+            for x in v {
+                self.vtri[x as usize] = id;
+            }
             ids.push(id);
         }
         for (k, &id) in ids.iter().enumerate() {
@@ -499,8 +506,8 @@ impl<'a> Cdt<'a> {
     /// vertex.
     fn advance_segment(&mut self, s: u32, v: u32, b: u32) -> Result<u32, SplitError> {
         let (t, i) = match self.leave_vertex(v, b) {
-            Leave::Along(w) => {
-                self.mark(v, w, s);
+            Leave::Along(w, t, i) => {
+                self.mark(t, i, s);
                 return Ok(w);
             }
             Leave::Through(t, i) => (t, i),
@@ -514,27 +521,55 @@ impl<'a> Cdt<'a> {
         self.ear_clip(&mut poly, &mut new);
         debug_assert_eq!(new.len(), removed.len(), "re-triangulation keeps the count");
         self.replace(&removed, &new);
-        self.mark(v, end, s);
+        let (t, i) = (self.ids.iter())
+            .find_map(|&t| Some((t, self.tris[t as usize].edge_index(v, end)?)))
+            .expect("the left pseudo-polygon has the edge v → end");
+        self.mark(t, i, s);
         Ok(end)
     }
 
-    /// How segment `v → b` leaves vertex `v`: along an edge `v w`, or into triangle `t`
-    /// across its edge `i` (opposite `v`).
+    /// How segment `v → b` leaves vertex `v`: along an edge `v w` (edge `i` of triangle
+    /// `t`), or into triangle `t` across its edge `i` (opposite `v`). Rotates around `v`
+    /// counterclockwise from the triangle `vtri` names, then clockwise if `v` is on the
+    /// boundary.
     fn leave_vertex(&self, v: u32, b: u32) -> Leave {
-        for (t, tri) in self.tris.iter().enumerate() {
-            let Some(k) = tri.v.iter().position(|&x| x == v) else {
-                continue;
-            };
-            let (p, q) = tri.edge(k);
-            // The triangle's angle at `v` runs counterclockwise from ray `v p` to ray `v q`.
-            match (self.orient(v, p, b), self.orient(v, q, b)) {
-                (Sign::Zero, Sign::Negative) => return Leave::Along(p),
-                (Sign::Positive, Sign::Zero) => return Leave::Along(q),
-                (Sign::Positive, Sign::Negative) => return Leave::Through(t as u32, k),
-                _ => {}
+        let start = self.vtri[v as usize];
+        for dir in [1, 2] {
+            let mut t = start;
+            loop {
+                let tri = &self.tris[t as usize];
+                let k = tri
+                    .v
+                    .iter()
+                    .position(|&x| x == v)
+                    .expect("vtri names a triangle of v");
+                if dir == 1 || t != start {
+                    if let Some(leave) = self.leave_through(t, k, b) {
+                        return leave;
+                    }
+                }
+                // Edge k + 1 (q → v) leads counterclockwise, edge k + 2 (v → p) clockwise.
+                t = tri.nbr[(k + dir) % 3];
+                if t == NONE || t == start {
+                    break;
+                }
             }
         }
         unreachable!("the triangles around a vertex cover every direction into the triangle")
+    }
+
+    /// [`Cdt::leave_vertex`] in triangle `t`, whose vertex `k` is `v`.
+    fn leave_through(&self, t: u32, k: usize, b: u32) -> Option<Leave> {
+        let tri = &self.tris[t as usize];
+        let v = tri.v[k];
+        let (p, q) = tri.edge(k);
+        // The triangle's angle at `v` runs counterclockwise from ray `v p` to ray `v q`.
+        match (self.orient(v, p, b), self.orient(v, q, b)) {
+            (Sign::Zero, Sign::Negative) => Some(Leave::Along(p, t, (k + 2) % 3)),
+            (Sign::Positive, Sign::Zero) => Some(Leave::Along(q, t, (k + 1) % 3)),
+            (Sign::Positive, Sign::Negative) => Some(Leave::Through(t, k)),
+            _ => None,
+        }
     }
 
     /// Walks from triangle `t`, entered by segment `v → b` across edge `i`, through the
@@ -622,21 +657,36 @@ impl<'a> Cdt<'a> {
             })
     }
 
-    /// Marks the edge between `u` and `w` (on both sides) as constrained by segment `s`,
-    /// unless an earlier segment already constrains it.
-    fn mark(&mut self, u: u32, w: u32, s: u32) {
-        for tri in &mut self.tris {
-            for i in 0..3 {
-                let e = tri.edge(i);
-                if (e == (u, w) || e == (w, u)) && tri.cons[i] == NONE {
-                    tri.cons[i] = s;
-                }
-            }
+    /// Marks edge `i` of triangle `t` (on both sides) as constrained by segment `s`, unless
+    /// an earlier segment already constrains it.
+    fn mark(&mut self, t: u32, i: usize, s: u32) {
+        let tri = &mut self.tris[t as usize];
+        if tri.cons[i] != NONE {
+            return;
+        }
+        tri.cons[i] = s;
+        let (a, b) = tri.edge(i);
+        let n = tri.nbr[i];
+        if n != NONE {
+            let other = &mut self.tris[n as usize];
+            let j = other.edge_index(b, a).expect("neighbours share the edge");
+            other.cons[j] = s;
         }
     }
 
     /// Checks the invariants of the [module docs](self); the first violation as text.
     pub(crate) fn check_invariants(&self) -> Result<(), String> {
+        for (v, &t) in self.vtri.iter().enumerate() {
+            let kept = self.alias[v] == v as u32;
+            if kept
+                && !self
+                    .tris
+                    .get(t as usize)
+                    .is_some_and(|tri| tri.v.contains(&(v as u32)))
+            {
+                return Err(format!("vtri of vertex {v} names triangle {t} without it"));
+            }
+        }
         for (t, tri) in self.tris.iter().enumerate() {
             let [a, b, c] = tri.v;
             if a == b || b == c || c == a {
@@ -672,7 +722,9 @@ impl<'a> Cdt<'a> {
 
 /// How a segment leaves a vertex (see [`Cdt::leave_vertex`]).
 enum Leave {
-    Along(u32),
+    /// Along the edge to this vertex: edge `.2` of triangle `.1`.
+    Along(u32, u32, usize),
+    /// Into triangle `.0`, across its edge `.1`.
     Through(u32, usize),
 }
 
