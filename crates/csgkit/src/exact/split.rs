@@ -60,11 +60,12 @@
 //! # Complexity
 //! With `n` points and `m` segments: point location is a walk (expected short for inserted
 //! points near each other), linear scan in the worst case, so `O(n^2)` worst. Each segment
-//! step rotates around its current vertex (`O(degree)`, from a triangle per vertex kept in
-//! `vtri`), walks the crossed triangles, and ear clipping a
-//! pseudo-polygon of `k` vertices costs `O(k^2)` orientation tests when its ears follow each
-//! other (a fan) and `O(k^3)` at worst; `k` is small unless a segment crosses many edges. The common case (0–4 points, a few segments) allocates the triangle
-//! vector, the id map and the output, and a few short-lived vectors per segment.
+//! step rotates around its current vertex (`O(degree)`, from the triangle per vertex kept in
+//! `vtri`) and walks the crossed triangles; ear clipping a pseudo-polygon of `k` vertices
+//! costs `O(k^2)` orientation tests when its ears follow each other (a fan), `O(k^3)` at
+//! worst, and `k` is small unless a segment crosses many edges. The common case (0–4 points,
+//! a few segments) allocates the triangle vector, the id maps (`alias`, `vtri`), the output,
+//! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
 use crate::kernel::{Axis, Point, Point3, Sign, orient2d_projected, orient3d_plane};
 
