@@ -26,8 +26,8 @@ pub mod mesh;
 pub mod ortho;
 
 pub use exact::{
-    Contact, Feature, Intersection, PointKey, SelfIntersections, Triangle, TriangleEdge,
-    intersect_triangles, self_intersections,
+    Contact, Feature, Intersection, PointKey, SelfIntersections, Split, SplitError, Triangle,
+    TriangleEdge, intersect_triangles, self_intersections, split_triangle,
 };
 pub use index::{Aabb, Bvh};
 pub use io::{

@@ -12,18 +12,21 @@
 //!    contact point is a typed kernel [`Point`](crate::kernel::Point) with a canonical
 //!    [`PointKey`]. Built on it: [`self_intersections`], the exact self-intersection check of
 //!    one mesh.
-//! 4. **split** — constrained triangulation of every triangle with its intersection segments.
+//! 4. **split** — [`split_triangle`]: the exact constrained triangulation of one triangle with
+//!    the intersection points and segments that lie on it.
 //! 5. **classify** — inside / outside / on of every patch against the other operands.
 //! 6. **select** — keep patches by the operation's table.
 //! 7. **assemble** — round implicit points once, build the output mesh with provenance.
 //!
-//! Only **intersect** exists so far; the exact predicates it uses are in
+//! Only **intersect** and **split** exist so far; the exact predicates they use are in
 //! [`kernel`](crate::kernel).
 
 pub mod intersect;
 pub mod self_intersect;
+mod split;
 
 pub use intersect::{
     Contact, Feature, Intersection, PointKey, Triangle, TriangleEdge, intersect_triangles,
 };
 pub use self_intersect::{SelfIntersections, self_intersections};
+pub use split::{Split, SplitError, split_triangle};

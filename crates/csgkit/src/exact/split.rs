@@ -1,0 +1,734 @@
+//! The **split** stage of the exact engine (`design/exact.md`, stage 5): the exact constrained
+//! triangulation of one input triangle with the intersection points and segments lying on it.
+//!
+//! # Contract
+//! In: the triangle's three explicit corners (in its orientation), extra points (kernel
+//! [`Point`]s, explicit or implicit, each in the closed triangle and exactly on its plane) and
+//! constraint segments as pairs of vertex ids. **Vertex ids** number the corners `0, 1, 2` and
+//! `points[i]` as `3 + i`; segments and output use them.
+//!
+//! Out ([`Split`]): triangles that cover the input triangle exactly once, each oriented like
+//! the input triangle, with every distinct point as a vertex and every segment a union of
+//! output edges. A point on an edge of the triangle splits that edge, so the neighbour across
+//! it, given the same point, stays conforming (no T-junction).
+//!
+//! A point equal to a corner or to an earlier point (by exact comparison) is *merged*: it
+//! appears in no triangle, segments naming it use the earlier vertex, and [`Split::merged`]
+//! reports the pair. Callers that deduplicate by canonical keys never see this; it makes the
+//! stage total on geometrically coincident points with different keys.
+//!
+//! # Algorithm
+//! 1. **Projection** ([`Projection::new`]): drop the coordinate [`Axis::of_largest`] of the
+//!    f64 normal, confirmed exactly by [`orient2d_projected`] on the corners (another axis if
+//!    that sign is zero, [`SplitError::DegenerateTriangle`] if all are). If the corners turn
+//!    clockwise in that projection, every orientation is flipped, so the input triangle is
+//!    counterclockwise in the 2D frame and "positive" means "oriented like the input".
+//! 2. **Points**: start from the one triangle `0, 1, 2`; insert each point after locating it
+//!    ([`Location`]) by a walk from the last created triangle (a visibility walk, with a step
+//!    limit and a linear scan behind it, since visibility walks may cycle in non-Delaunay
+//!    triangulations — Devillers, Pion & Teillaud 2002, "Walking in a triangulation"). Inside
+//!    a triangle: split it in three. On an edge: split the edge and both triangles beside it
+//!    (one on the boundary). On a vertex: merge.
+//! 3. **Segments**, one at a time from its first vertex `v` toward its end `b`: find the
+//!    triangle around `v` whose angle at `v` contains the direction to `b`. If `b` lies along
+//!    one of its edges, that edge is part of the segment: constrain it and continue from its
+//!    other vertex (this also splits a segment at every vertex it passes through exactly).
+//!    Otherwise walk across the triangles the segment crosses, collecting the vertices left
+//!    and right of it, until it reaches `b` or passes exactly through a vertex `e`; remove the
+//!    crossed triangles, triangulate the two pseudo-polygons on either side of `v e` by ear
+//!    clipping, constrain `v e`, and continue from `e` (Anglada 1997, "An improved
+//!    incremental algorithm for constructing restricted Delaunay triangulations", without the
+//!    Delaunay choice of vertex; spade's `cdt.rs` has the same structure).
+//! 4. Crossing a constrained edge in step 3 means two segments cross at a point that is not a
+//!    vertex: [`SplitError::ConstraintsCross`]. The crossing is representable (the
+//!    [`Tpi`](crate::kernel::Tpi) of the triangle's plane and the planes that carry the two
+//!    segments), but segments do not carry their planes yet; the intersect stage is expected
+//!    to report such crossings as points.
+//!
+//! # Invariants
+//! [`Cdt::check_invariants`] (run by the tests and by `debug_assert!` at the end): every
+//! triangle has distinct vertices and positive orientation; neighbour links are symmetric
+//! across the same edge in opposite directions; an edge's constraint mark is the same on
+//! both sides; every vertex that is not merged has a triangle in `vtri` that contains it. Points are all inserted before any segment, so no point insertion splits a
+//! constrained edge.
+//!
+//! # Numeric model
+//! Only [`orient2d_projected`] decides, on explicit or implicit points; no coordinate is ever
+//! rounded or computed. The f64 normal only chooses the projection axis; any axis where the
+//! exact orientation of the corners is nonzero gives the same answers (up to the global flip).
+//!
+//! # Complexity
+//! With `n` points and `m` segments: point location is a walk (expected short for inserted
+//! points near each other), linear scan in the worst case, so `O(n^2)` worst. Each segment
+//! step rotates around its current vertex (`O(degree)`, from the triangle per vertex kept in
+//! `vtri`) and walks the crossed triangles; ear clipping a pseudo-polygon of `k` vertices
+//! costs `O(k^2)` orientation tests when its ears follow each other (a fan), `O(k^3)` at
+//! worst, and `k` is small unless a segment crosses many edges. The common case (0–4 points,
+//! a few segments) allocates the triangle vector, the id maps (`alias`, `vtri`), the output,
+//! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
+
+use crate::kernel::{Axis, Point, Point3, Sign, orient2d_projected, orient3d_plane};
+
+#[cfg(test)]
+mod tests;
+
+/// "No triangle" (a boundary edge's neighbour) and "not constrained".
+const NONE: u32 = u32::MAX;
+
+/// The result of [`split_triangle`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Split {
+    /// The output triangles, as vertex ids (corners `0, 1, 2`, then `3 + i` for point `i`),
+    /// each oriented like the input triangle.
+    pub triangles: Vec<[u32; 3]>,
+    /// `[merged, kept]` vertex ids: each point equal to an earlier vertex, and that vertex.
+    /// Usually empty (no allocation).
+    pub merged: Vec<[u32; 2]>,
+}
+
+/// Why a triangle could not be split.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SplitError {
+    /// The corners are collinear (exactly), so the triangle has no plane to project on.
+    ///
+    /// *How to fix*: ingest removes exactly degenerate triangles; do not split them.
+    #[error("the triangle is degenerate (its corners are collinear)")]
+    DegenerateTriangle,
+    /// A point is not in the closed triangle (in the projection): a precondition violation.
+    #[error("point {point} lies outside the triangle")]
+    PointOutside {
+        /// The vertex id of the point (`3 + i` for `points[i]`).
+        point: u32,
+    },
+    /// A segment names a vertex id beyond the corners and points.
+    #[error("segment {segment} names a vertex that does not exist")]
+    SegmentOutOfRange {
+        /// The index of the segment.
+        segment: usize,
+    },
+    /// Two segments cross at a point that is not one of the points.
+    ///
+    /// *What to try*: add the crossing point (a [`Tpi`](crate::kernel::Tpi) of the triangle's
+    /// plane and the two segments' planes) to the points and split both segments there.
+    #[error("segments {first} and {second} cross at a point that is not a vertex")]
+    ConstraintsCross {
+        /// The segment inserted first.
+        first: usize,
+        /// The segment whose insertion met the first.
+        second: usize,
+    },
+}
+
+/// Triangulates the triangle `corners` with `points` on it and the constraint `segments`:
+/// the split stage of the exact engine.
+///
+/// Vertex ids number the corners `0, 1, 2` and `points[i]` as `3 + i`; `segments` and the
+/// output use them. Every point must lie in the closed triangle, exactly on its plane. The
+/// output triangles cover the triangle once, are oriented like it, use every distinct point as
+/// a vertex (a point on an edge splits it) and contain every segment as a chain of edges. A
+/// point equal to an earlier vertex is merged into it and reported in [`Split::merged`].
+///
+/// # Example
+/// A segment across the triangle, from a point on one edge to an implicit point (an edge of
+/// another mesh crossing the triangle):
+/// ```
+/// use csgkit::kernel::Point;
+/// let tri = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]];
+/// let x = Point::lpi([1.0, 1.0, -1.0], [1.0, 2.0, 2.0], tri[0], tri[1], tri[2]).unwrap();
+/// let points = [Point::Explicit([2.0, 0.0, 0.0]), x];
+/// let split = csgkit::split_triangle(tri, &points, &[[3, 4]]).unwrap();
+/// // Two points, one on the boundary: 2 * 2 - 1 + 1 triangles.
+/// assert_eq!(split.triangles.len(), 4);
+/// assert!(split.triangles.iter().any(|t| t.contains(&3) && t.contains(&4)));
+/// ```
+///
+/// # Errors
+/// [`SplitError::DegenerateTriangle`] for collinear corners, [`SplitError::PointOutside`]
+/// when a point is outside the closed triangle, [`SplitError::SegmentOutOfRange`] for a bad
+/// vertex id, [`SplitError::ConstraintsCross`] when two segments cross away from the points.
+pub fn split_triangle(
+    corners: [Point3; 3],
+    points: &[Point],
+    segments: &[[u32; 2]],
+) -> Result<Split, SplitError> {
+    let cdt = Cdt::build(corners, points, segments)?;
+    debug_assert_eq!(cdt.check_invariants(), Ok(()));
+    Ok(cdt.into_split())
+}
+
+/// The 2D frame: which coordinate is dropped and whether orientations flip.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Projection {
+    drop: Axis,
+    flip: bool,
+}
+
+impl Projection {
+    /// The projection in which `corners` are counterclockwise, or `None` if they are
+    /// collinear.
+    pub(crate) fn new(corners: &[Point; 3]) -> Option<Projection> {
+        let f = |i: usize| corners[i].approx();
+        let (a, b, c) = (f(0), f(1), f(2));
+        let (u, v) = (sub(b, a), sub(c, a));
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let first = Axis::of_largest(n);
+        let axes = [first, Axis::X, Axis::Y, Axis::Z];
+        axes.into_iter().find_map(|drop| {
+            match orient2d_projected(&corners[0], &corners[1], &corners[2], drop) {
+                Sign::Zero => None,
+                s => Some(Projection {
+                    drop,
+                    flip: s == Sign::Negative,
+                }),
+            }
+        })
+    }
+
+    /// Orientation of `a, b, c` in the frame: positive when turning like the input triangle.
+    pub(crate) fn orient(&self, a: &Point, b: &Point, c: &Point) -> Sign {
+        let s = orient2d_projected(a, b, c, self.drop);
+        if self.flip { s.flip() } else { s }
+    }
+}
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// One triangle: vertices counterclockwise; edge `i` runs from `v[i + 1]` to `v[i + 2]`
+/// (opposite `v[i]`), `nbr[i]` is the triangle across it ([`NONE`] on the boundary) and
+/// `cons[i]` the segment constraining it ([`NONE`] if none).
+#[derive(Clone, Copy, Debug)]
+struct Tri {
+    v: [u32; 3],
+    nbr: [u32; 3],
+    cons: [u32; 3],
+}
+
+impl Tri {
+    /// The edge `i` as `(from, to)`.
+    fn edge(&self, i: usize) -> (u32, u32) {
+        (self.v[(i + 1) % 3], self.v[(i + 2) % 3])
+    }
+
+    /// The index of the directed edge `from → to`, if this triangle has it.
+    fn edge_index(&self, from: u32, to: u32) -> Option<usize> {
+        find_edge(self.v, from, to)
+    }
+}
+
+/// The index of the directed edge `from → to` in the triangle `v` (see [`Tri`]).
+fn find_edge(v: [u32; 3], from: u32, to: u32) -> Option<usize> {
+    (0..3).find(|&i| (v[(i + 1) % 3], v[(i + 2) % 3]) == (from, to))
+}
+
+/// Where a point lies in the triangulation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Location {
+    /// Strictly inside the triangle.
+    InTriangle(u32),
+    /// On edge `.1` of triangle `.0`, strictly between its endpoints.
+    OnEdge(u32, usize),
+    /// On this existing vertex.
+    OnVertex(u32),
+}
+
+/// One step of a walk: the point's location, or an edge with the point strictly beyond it.
+enum Step {
+    Found(Location),
+    Beyond(usize),
+}
+
+/// The triangulation under construction (see the [module docs](self)).
+pub(crate) struct Cdt<'a> {
+    corners: [Point; 3],
+    points: &'a [Point],
+    proj: Projection,
+    tris: Vec<Tri>,
+    /// `alias[id]`: the vertex that stands for vertex `id` (itself unless merged).
+    alias: Vec<u32>,
+    merged: Vec<[u32; 2]>,
+    /// The walk's starting triangle.
+    last: u32,
+    /// `vtri[id]`: a triangle with vertex `id` ([`NONE`] until it is inserted).
+    vtri: Vec<u32>,
+    /// Scratch for [`Cdt::replace`].
+    rim: Vec<RimEdge>,
+    /// Scratch for [`Cdt::replace`].
+    ids: Vec<u32>,
+}
+
+/// An edge on the rim of the region [`Cdt::replace`] re-triangulates, with what lies across.
+#[derive(Clone, Copy, Debug)]
+struct RimEdge {
+    from: u32,
+    to: u32,
+    nbr: u32,
+    cons: u32,
+}
+
+impl<'a> Cdt<'a> {
+    /// Steps 1–4 of the [module docs](self).
+    pub(crate) fn build(
+        corners: [Point3; 3],
+        points: &'a [Point],
+        segments: &[[u32; 2]],
+    ) -> Result<Cdt<'a>, SplitError> {
+        let n = 3 + points.len() as u32;
+        if let Some(segment) = segments.iter().position(|s| s[0] >= n || s[1] >= n) {
+            return Err(SplitError::SegmentOutOfRange { segment });
+        }
+        debug_assert!(
+            points
+                .iter()
+                .all(|p| orient3d_plane(corners[0], corners[1], corners[2], p) == Sign::Zero),
+            "every point lies on the plane of the triangle"
+        );
+        let corners = corners.map(Point::Explicit);
+        let proj = Projection::new(&corners).ok_or(SplitError::DegenerateTriangle)?;
+        let mut tris = Vec::with_capacity(1 + 2 * points.len());
+        tris.push(Tri {
+            v: [0, 1, 2],
+            nbr: [NONE; 3],
+            cons: [NONE; 3],
+        });
+        let mut cdt = Cdt {
+            corners,
+            points,
+            proj,
+            tris,
+            alias: (0..n).collect(),
+            merged: Vec::new(),
+            last: 0,
+            vtri: (0..n).map(|v| if v < 3 { 0 } else { NONE }).collect(),
+            rim: Vec::new(),
+            ids: Vec::new(),
+        };
+        for p in 3..n {
+            cdt.insert_point(p)?;
+        }
+        for (s, seg) in segments.iter().enumerate() {
+            cdt.insert_segment(s as u32, seg[0], seg[1])?;
+        }
+        Ok(cdt)
+    }
+
+    fn into_split(self) -> Split {
+        Split {
+            triangles: self.tris.into_iter().map(|t| t.v).collect(),
+            merged: self.merged,
+        }
+    }
+
+    fn point(&self, id: u32) -> &Point {
+        match id {
+            0..3 => &self.corners[id as usize],
+            _ => &self.points[id as usize - 3],
+        }
+    }
+
+    fn orient(&self, a: u32, b: u32, c: u32) -> Sign {
+        self.proj
+            .orient(self.point(a), self.point(b), self.point(c))
+    }
+
+    /// Where point `p` lies relative to triangle `t`.
+    fn step(&self, t: u32, p: u32) -> Step {
+        let tri = &self.tris[t as usize];
+        let mut zeros = [false; 3];
+        for (i, z) in zeros.iter_mut().enumerate() {
+            let (a, b) = tri.edge(i);
+            match self.orient(a, b, p) {
+                Sign::Negative => return Step::Beyond(i),
+                Sign::Zero => *z = true,
+                Sign::Positive => {}
+            }
+        }
+        Step::Found(match zeros {
+            [false, false, false] => Location::InTriangle(t),
+            [true, false, false] => Location::OnEdge(t, 0),
+            [false, true, false] => Location::OnEdge(t, 1),
+            [false, false, true] => Location::OnEdge(t, 2),
+            // Two zero edges meet at the vertex opposite the third; three zeros would need a
+            // degenerate triangle.
+            [false, true, true] => Location::OnVertex(tri.v[0]),
+            [true, false, true] => Location::OnVertex(tri.v[1]),
+            _ => Location::OnVertex(tri.v[2]),
+        })
+    }
+
+    /// Locates point `p`: a walk from the last triangle, then a scan if the walk is too long.
+    fn locate(&self, p: u32) -> Result<Location, SplitError> {
+        let mut t = self.last;
+        for _ in 0..=self.tris.len() {
+            match self.step(t, p) {
+                Step::Found(loc) => return Ok(loc),
+                // The triangulated domain is the convex input triangle: beyond a boundary
+                // edge is outside it.
+                Step::Beyond(i) => match self.tris[t as usize].nbr[i] {
+                    NONE => return Err(SplitError::PointOutside { point: p }),
+                    n => t = n,
+                },
+            }
+        }
+        (0..self.tris.len() as u32)
+            .find_map(|t| match self.step(t, p) {
+                Step::Found(loc) => Some(loc),
+                Step::Beyond(_) => None,
+            })
+            .ok_or(SplitError::PointOutside { point: p })
+    }
+
+    /// Step 2 for one point.
+    fn insert_point(&mut self, p: u32) -> Result<(), SplitError> {
+        match self.locate(p)? {
+            Location::OnVertex(w) => {
+                self.alias[p as usize] = w;
+                self.merged.push([p, w]);
+            }
+            Location::InTriangle(t) => {
+                let [a, b, c] = self.tris[t as usize].v;
+                self.replace(&[t], &[[a, b, p], [b, c, p], [c, a, p]]);
+            }
+            Location::OnEdge(t, i) => {
+                let tri = self.tris[t as usize];
+                debug_assert_eq!(tri.cons[i], NONE, "points are inserted before segments");
+                let a = tri.v[i];
+                let (b, c) = tri.edge(i);
+                match tri.nbr[i] {
+                    NONE => self.replace(&[t], &[[a, b, p], [a, p, c]]),
+                    n => {
+                        let other = &self.tris[n as usize];
+                        let j = other.edge_index(c, b).expect("neighbours share the edge");
+                        let d = other.v[j];
+                        let new = [[a, b, p], [a, p, c], [d, c, p], [d, p, b]];
+                        self.replace(&[t, n], &new);
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Replaces triangles `old` (a region) by triangles `new` covering the same region,
+    /// reusing the slots of `old`, and relinks neighbours and constraint marks: an edge of
+    /// `new` on the region's boundary takes the old neighbour and mark, an edge shared by two
+    /// new triangles links them, any other edge is on the input triangle's boundary.
+    fn replace(&mut self, old: &[u32], new: &[[u32; 3]]) {
+        // The scratch buffers live in `self` so that point insertion does not allocate.
+        let (mut rim, mut ids) = (std::mem::take(&mut self.rim), std::mem::take(&mut self.ids));
+        rim.clear();
+        ids.clear();
+        for &t in old {
+            let tri = self.tris[t as usize];
+            for i in 0..3 {
+                if !old.contains(&tri.nbr[i]) {
+                    let (a, b) = tri.edge(i);
+                    rim.push(RimEdge {
+                        from: a,
+                        to: b,
+                        nbr: tri.nbr[i],
+                        cons: tri.cons[i],
+                    });
+                }
+            }
+        }
+        for (k, &v) in new.iter().enumerate() {
+            let id = old.get(k).copied().unwrap_or_else(|| {
+                self.tris.push(Tri {
+                    v,
+                    nbr: [NONE; 3],
+                    cons: [NONE; 3],
+                });
+                self.tris.len() as u32 - 1
+            });
+            self.tris[id as usize].v = v;
+            for x in v {
+                self.vtri[x as usize] = id;
+            }
+            ids.push(id);
+        }
+        for (k, &id) in ids.iter().enumerate() {
+            for i in 0..3 {
+                let link = self.link_edge(&rim, new, &ids, k, i);
+                let tri = &mut self.tris[id as usize];
+                (tri.nbr[i], tri.cons[i]) = link;
+            }
+        }
+        self.last = ids[0];
+        (self.rim, self.ids) = (rim, ids);
+    }
+
+    /// The neighbour and mark of edge `i` of the new triangle `k` in [`Cdt::replace`]; also
+    /// points an old neighbour back at it.
+    fn link_edge(
+        &mut self,
+        rim: &[RimEdge],
+        new: &[[u32; 3]],
+        ids: &[u32],
+        k: usize,
+        i: usize,
+    ) -> (u32, u32) {
+        let id = ids[k];
+        let (a, b) = self.tris[id as usize].edge(i);
+        if let Some(e) = rim.iter().find(|e| (e.from, e.to) == (a, b)) {
+            if e.nbr != NONE {
+                let back = self.tris[e.nbr as usize].edge_index(b, a);
+                let j = back.expect("a neighbour has the reversed edge");
+                self.tris[e.nbr as usize].nbr[j] = id;
+            }
+            (e.nbr, e.cons)
+        } else if let Some(m) =
+            (0..new.len()).find(|&m| m != k && find_edge(new[m], b, a).is_some())
+        {
+            (ids[m], NONE)
+        } else {
+            // A half of a split boundary edge.
+            (NONE, NONE)
+        }
+    }
+
+    /// Step 3 for one segment: constrain the edges along `a → b`, splitting at the vertices
+    /// it passes through.
+    fn insert_segment(&mut self, s: u32, a: u32, b: u32) -> Result<(), SplitError> {
+        let (mut v, b) = (self.alias[a as usize], self.alias[b as usize]);
+        while v != b {
+            v = self.advance_segment(s, v, b)?;
+        }
+        Ok(())
+    }
+
+    /// Constrains the part of `v → b` from `v` to the next vertex on it, and returns that
+    /// vertex.
+    fn advance_segment(&mut self, s: u32, v: u32, b: u32) -> Result<u32, SplitError> {
+        let (t, i) = match self.leave_vertex(v, b) {
+            Leave::Along(w, t, i) => {
+                self.mark(t, i, s);
+                return Ok(w);
+            }
+            Leave::Through(t, i) => (t, i),
+        };
+        let (end, removed, left, right) = self.walk_segment(s, v, b, t, i)?;
+        let mut new = Vec::with_capacity(removed.len());
+        let mut poly: Vec<u32> = [v, end].into_iter().chain(left.into_iter().rev()).collect();
+        self.ear_clip(&mut poly, &mut new);
+        poly.clear();
+        poly.extend([end, v].into_iter().chain(right));
+        self.ear_clip(&mut poly, &mut new);
+        debug_assert_eq!(new.len(), removed.len(), "re-triangulation keeps the count");
+        self.replace(&removed, &new);
+        let (t, i) = (self.ids.iter())
+            .find_map(|&t| Some((t, self.tris[t as usize].edge_index(v, end)?)))
+            .expect("the left pseudo-polygon has the edge v → end");
+        self.mark(t, i, s);
+        Ok(end)
+    }
+
+    /// How segment `v → b` leaves vertex `v`: along an edge `v w` (edge `i` of triangle
+    /// `t`), or into triangle `t` across its edge `i` (opposite `v`). Rotates around `v`
+    /// counterclockwise from the triangle `vtri` names, then clockwise if `v` is on the
+    /// boundary.
+    fn leave_vertex(&self, v: u32, b: u32) -> Leave {
+        let start = self.vtri[v as usize];
+        for dir in [1, 2] {
+            let mut t = start;
+            loop {
+                let tri = &self.tris[t as usize];
+                let k = tri
+                    .v
+                    .iter()
+                    .position(|&x| x == v)
+                    .expect("vtri names a triangle of v");
+                if dir == 1 || t != start {
+                    if let Some(leave) = self.leave_through(t, k, b) {
+                        return leave;
+                    }
+                }
+                // Edge k + 1 (q → v) leads counterclockwise, edge k + 2 (v → p) clockwise.
+                t = tri.nbr[(k + dir) % 3];
+                if t == NONE || t == start {
+                    break;
+                }
+            }
+        }
+        unreachable!("the triangles around a vertex cover every direction into the triangle")
+    }
+
+    /// [`Cdt::leave_vertex`] in triangle `t`, whose vertex `k` is `v`.
+    fn leave_through(&self, t: u32, k: usize, b: u32) -> Option<Leave> {
+        let tri = &self.tris[t as usize];
+        let v = tri.v[k];
+        let (p, q) = tri.edge(k);
+        // The triangle's angle at `v` runs counterclockwise from ray `v p` to ray `v q`.
+        match (self.orient(v, p, b), self.orient(v, q, b)) {
+            (Sign::Zero, Sign::Negative) => Some(Leave::Along(p, t, (k + 2) % 3)),
+            (Sign::Positive, Sign::Zero) => Some(Leave::Along(q, t, (k + 1) % 3)),
+            (Sign::Positive, Sign::Negative) => Some(Leave::Through(t, k)),
+            _ => None,
+        }
+    }
+
+    /// Walks from triangle `t`, entered by segment `v → b` across edge `i`, through the
+    /// triangles the segment crosses, up to `b` or the first vertex exactly on the segment.
+    /// Returns that vertex, the crossed triangles, and the vertices left and right of the
+    /// segment in order from `v`.
+    fn walk_segment(&self, s: u32, v: u32, b: u32, t: u32, i: usize) -> Result<Walk, SplitError> {
+        let (mut t, mut i) = (t, i);
+        let (p, q) = self.tris[t as usize].edge(i);
+        let (mut removed, mut left, mut right) = (vec![t], vec![q], vec![p]);
+        loop {
+            let tri = self.tris[t as usize];
+            if tri.cons[i] != NONE {
+                return Err(SplitError::ConstraintsCross {
+                    first: tri.cons[i] as usize,
+                    second: s as usize,
+                });
+            }
+            let n = tri.nbr[i];
+            assert_ne!(
+                n, NONE,
+                "a segment inside the triangle crosses no boundary edge"
+            );
+            let (p, q) = tri.edge(i);
+            let other = &self.tris[n as usize];
+            let j = other.edge_index(q, p).expect("neighbours share the edge");
+            let r = other.v[j];
+            removed.push(n);
+            let side = if r == b {
+                Sign::Zero
+            } else {
+                self.orient(v, b, r)
+            };
+            match side {
+                Sign::Zero => return Ok((r, removed, left, right)),
+                // The edges of `other` after `q → p` are `p → r` (index j + 1), `r → q`.
+                Sign::Positive => {
+                    left.push(r);
+                    i = (j + 1) % 3;
+                }
+                Sign::Negative => {
+                    right.push(r);
+                    i = (j + 2) % 3;
+                }
+            }
+            t = n;
+        }
+    }
+
+    /// Triangulates the counterclockwise simple polygon `poly` (consecutive collinear
+    /// vertices allowed) by ear clipping, appending to `out`; consumes `poly`'s vertices.
+    ///
+    /// The search for the next ear starts beside the last one, where the polygon changed, so
+    /// a polygon whose ears follow each other (a fan) costs `O(k^2)` tests, not `O(k^3)`.
+    fn ear_clip(&self, poly: &mut Vec<u32>, out: &mut Vec<[u32; 3]>) {
+        let mut start = 0;
+        while poly.len() > 3 {
+            let n = poly.len();
+            let k = (0..n)
+                .map(|d| (start + d) % n)
+                .find(|&k| self.is_ear(poly, k))
+                .expect("a simple polygon with four or more vertices has an ear");
+            out.push([poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]]);
+            poly.remove(k);
+            start = (k + n - 2) % (n - 1);
+        }
+        out.push([poly[0], poly[1], poly[2]]);
+    }
+
+    /// True when vertex `k` of `poly` is strictly convex and no other vertex lies in the
+    /// closed triangle it forms with its neighbours: the diagonal between the neighbours is
+    /// then inside the polygon.
+    fn is_ear(&self, poly: &[u32], k: usize) -> bool {
+        let n = poly.len();
+        let (a, b, c) = (poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]);
+        if self.orient(a, b, c) != Sign::Positive {
+            return false;
+        }
+        poly.iter()
+            .filter(|&&w| w != a && w != b && w != c)
+            .all(|&w| {
+                self.orient(a, b, w) == Sign::Negative
+                    || self.orient(b, c, w) == Sign::Negative
+                    || self.orient(c, a, w) == Sign::Negative
+            })
+    }
+
+    /// Marks edge `i` of triangle `t` (on both sides) as constrained by segment `s`, unless
+    /// an earlier segment already constrains it.
+    fn mark(&mut self, t: u32, i: usize, s: u32) {
+        let tri = &mut self.tris[t as usize];
+        if tri.cons[i] != NONE {
+            return;
+        }
+        tri.cons[i] = s;
+        let (a, b) = tri.edge(i);
+        let n = tri.nbr[i];
+        if n != NONE {
+            let other = &mut self.tris[n as usize];
+            let j = other.edge_index(b, a).expect("neighbours share the edge");
+            other.cons[j] = s;
+        }
+    }
+
+    /// Checks the invariants of the [module docs](self); the first violation as text.
+    pub(crate) fn check_invariants(&self) -> Result<(), String> {
+        for (v, &t) in self.vtri.iter().enumerate() {
+            let kept = self.alias[v] == v as u32;
+            if kept
+                && !self
+                    .tris
+                    .get(t as usize)
+                    .is_some_and(|tri| tri.v.contains(&(v as u32)))
+            {
+                return Err(format!("vtri of vertex {v} names triangle {t} without it"));
+            }
+        }
+        for (t, tri) in self.tris.iter().enumerate() {
+            let [a, b, c] = tri.v;
+            if a == b || b == c || c == a {
+                return Err(format!("triangle {t} {:?} repeats a vertex", tri.v));
+            }
+            if self.orient(a, b, c) != Sign::Positive {
+                return Err(format!("triangle {t} {:?} is not positive", tri.v));
+            }
+            for i in 0..3 {
+                let (x, y) = tri.edge(i);
+                let n = tri.nbr[i];
+                if n == NONE {
+                    continue;
+                }
+                let other = &self.tris[n as usize];
+                let Some(j) = other.edge_index(y, x) else {
+                    return Err(format!("triangle {n} lacks edge {y} → {x} of triangle {t}"));
+                };
+                if other.nbr[j] != t as u32 || other.cons[j] != tri.cons[i] {
+                    return Err(format!("triangles {t} and {n} disagree on edge {x} {y}"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The triangles, for tests.
+    #[cfg(test)]
+    pub(crate) fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.tris.iter().map(|t| t.v)
+    }
+}
+
+/// How a segment leaves a vertex (see [`Cdt::leave_vertex`]).
+enum Leave {
+    /// Along the edge to this vertex: edge `.2` of triangle `.1`.
+    Along(u32, u32, usize),
+    /// Into triangle `.0`, across its edge `.1`.
+    Through(u32, usize),
+}
+
+/// What [`Cdt::walk_segment`] returns: the end vertex, the crossed triangles, the left and
+/// right vertex chains.
+type Walk = (u32, Vec<u32>, Vec<u32>, Vec<u32>);
