@@ -18,6 +18,7 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod discrete;
 mod index;
 pub mod mesh;
 

@@ -1,0 +1,86 @@
+//! Output as axis-aligned boxes (§B3.4): the input of the orthogonal engine.
+//!
+//! Each interval of a uniform tile is one box: the tile's footprint × `[z0, z1)`, and each
+//! interval of a brick sub-column is a one-column box. The boxes have pairwise disjoint
+//! interiors (tiles have disjoint footprints and a column's intervals are disjoint), so their
+//! total volume is the voxel count times `h³`, and their union is the solid. Coordinates are
+//! the lattice planes `fl(k·h)` (exact when `h` is dyadic).
+//!
+//! Cost: one box per tile interval; `O(boxes)` time and memory.
+
+use super::tile::Solid;
+
+impl Solid {
+    /// The solid as boxes of finest voxel indices `[x0, y0, z0, x1, y1, z1]` (half-open).
+    ///
+    /// Interiors are pairwise disjoint; the order is deterministic.
+    pub fn to_index_boxes(&self) -> Vec<[i32; 6]> {
+        let mut out = Vec::new();
+        self.for_each_column(|x, y, size, column| {
+            for iv in column.intervals() {
+                out.push([x, y, iv.z0, x + size, y + size, iv.z1]);
+            }
+        });
+        out
+    }
+
+    /// The solid as world-space boxes `[xmin, ymin, zmin, xmax, ymax, zmax]`.
+    ///
+    /// Interiors are pairwise disjoint; the order is deterministic.
+    pub fn to_boxes(&self) -> Vec<[f64; 6]> {
+        let grid = *self.grid();
+        self.to_index_boxes()
+            .into_iter()
+            .map(|b| b.map(|k| grid.finest_plane(k)))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::discrete::column::{Column, Interval};
+    use crate::discrete::{Grid, Solid};
+
+    #[test]
+    fn box_volume_is_voxel_count_times_cell_volume() {
+        let grid = Grid::new(0.5, 4).unwrap();
+        let tall = Column::from_intervals(vec![
+            Interval { z0: 0, z1: 16 },
+            Interval { z0: 32, z1: 48 },
+        ]);
+        let short = Column::from_intervals(vec![Interval { z0: 3, z1: 5 }]);
+        let cols: Vec<_> = (0..16)
+            .flat_map(|i| (0..16).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                (
+                    (i, j),
+                    if (i + j) % 3 == 0 {
+                        short.clone()
+                    } else {
+                        tall.clone()
+                    },
+                )
+            })
+            .collect();
+        let solid = Solid::from_columns(grid, 0, &cols);
+        let boxes = solid.to_boxes();
+        let volume: f64 = boxes
+            .iter()
+            .map(|b| (b[3] - b[0]) * (b[4] - b[1]) * (b[5] - b[2]))
+            .sum();
+        assert_eq!(volume, solid.voxel_count() as f64 * 0.125);
+        assert!(
+            boxes
+                .iter()
+                .all(|b| b[0] < b[3] && b[1] < b[4] && b[2] < b[5])
+        );
+        // Interiors are disjoint: no two index boxes overlap.
+        let ib = solid.to_index_boxes();
+        for (n, a) in ib.iter().enumerate() {
+            for b in &ib[n + 1..] {
+                let overlap = (0..3).all(|d| a[d] < b[d + 3] && b[d] < a[d + 3]);
+                assert!(!overlap, "{a:?} {b:?}");
+            }
+        }
+    }
+}
