@@ -14,7 +14,8 @@
 //!    [`Brick`]s with 64-bit masks (`brick.rs`), split tiles.
 //! 3. [`Solid::op`] (`ops.rs`): ∪ ∩ − ⊕ with multi-scale alignment, normalised bottom-up.
 //! 4. [`Solid::to_boxes`] (`to_boxes.rs`): disjoint axis-aligned boxes, the orthogonal
-//!    engine's input for a closed mesh.
+//!    engine's input for a closed mesh; [`Solid::to_surfel_mesh`] (`surfels.rs`): the
+//!    paper's top/bottom/lateral surfel reconstruction as a closed unit-quad mesh.
 //!
 //! # Invariants
 //! - Everything is an integer after step 1, so booleans are exact and chain without drift.
@@ -26,6 +27,7 @@ mod column;
 mod discretize;
 mod grid;
 mod ops;
+mod surfels;
 mod tile;
 mod to_boxes;
 
