@@ -48,6 +48,8 @@
 //! `O(T + C log C)` for `T` triangles and `C` column crossings (plus the columns each
 //! triangle's bounding box covers); memory `O(C)`, that is, proportional to the surface.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
 use rayon::prelude::*;
 use robust::{Coord, Coord3D, orient2d, orient3d};
 
@@ -130,18 +132,47 @@ pub enum DiscretizeError {
         /// The offending coordinate.
         value: f64,
     },
+    /// The progress callback asked to stop.
+    #[error("discretisation was cancelled")]
+    Cancelled,
     /// The level is above the largest supported level.
     #[error("level {0} is above the largest level 20")]
     BadLevel(u8),
 }
 
-/// One ray crossing: column `(i, j)`, depth position code, winding change.
+/// One ray crossing: column `(i, j)`, depth position code and winding change, packed into one
+/// integer whose order is `(j, i, pos, delta)`, so sorting is one integer comparison.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-struct Crossing {
-    j: i32,
-    i: i32,
-    pos: i32,
-    delta: i8,
+struct Crossing(u128);
+
+impl Crossing {
+    const OFFSET: i64 = 1 << 31;
+
+    fn new(i: i32, j: i32, pos: i32, delta: i8) -> Self {
+        let field = |v: i32| (i64::from(v) + Self::OFFSET) as u128;
+        Self(field(j) << 72 | field(i) << 40 | field(pos) << 8 | u128::from(delta as u8 ^ 0x80))
+    }
+
+    fn j(self) -> i32 {
+        ((self.0 >> 72) as u32 as i64 - Self::OFFSET) as i32
+    }
+
+    fn i(self) -> i32 {
+        ((self.0 >> 40) as u32 as i64 - Self::OFFSET) as i32
+    }
+
+    fn pos(self) -> i32 {
+        ((self.0 >> 8) as u32 as i64 - Self::OFFSET) as i32
+    }
+
+    fn delta(self) -> i8 {
+        (self.0 as u8 ^ 0x80) as i8
+    }
+
+    /// The column, as one comparable key.
+    fn column_key(self) -> u128 {
+        self.0 >> 40
+    }
 }
 
 /// A level-ℓ column and its index.
@@ -159,39 +190,83 @@ pub fn discretize(
     level: u8,
     options: DiscretizeOptions,
 ) -> Result<Solid, DiscretizeError> {
+    discretize_with_progress(mesh, grid, level, options, &|_| true)
+}
+
+/// [`discretize`], reporting progress and allowing cancellation.
+///
+/// `progress` receives the fraction of triangles done (0 to 1, from any worker thread, at
+/// least once at the end of the triangle pass); returning `false` cancels the work.
+///
+/// # Errors
+/// As [`discretize`], and [`DiscretizeError::Cancelled`] when `progress` returned `false`.
+pub fn discretize_with_progress(
+    mesh: &Mesh,
+    grid: Grid,
+    level: u8,
+    options: DiscretizeOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<Solid, DiscretizeError> {
     if level > MAX_LEVEL {
         return Err(DiscretizeError::BadLevel(level));
     }
     check_coordinates(mesh, &grid)?;
-    let triangles: Vec<[u32; 3]> = mesh.fan_triangles().map(|(_, t)| t).collect();
     let lattice = Lattice {
         grid,
         level,
         rounding: options.rounding,
     };
-    let positions = mesh.positions();
-    let mut crossings: Vec<Crossing> = triangles
-        .par_iter()
-        .flat_map_iter(|t| {
-            let mut out = Vec::new();
-            lattice.triangle_crossings(t.map(|v| positions[v as usize]), &mut out);
-            out
-        })
-        .collect();
+    let mut crossings = all_crossings(mesh, &lattice, progress)?;
     crossings.par_sort_unstable();
     let groups: Vec<&[Crossing]> = crossings
-        .chunk_by(|a, b| (a.i, a.j) == (b.i, b.j))
+        .chunk_by(|a, b| a.column_key() == b.column_key())
         .collect();
     let columns: Vec<Result<KeyedColumn, DiscretizeError>> = groups
         .into_par_iter()
         .map(|g| {
             lattice
                 .column(g, options.fill)
-                .map(|c| ((g[0].i, g[0].j), c))
+                .map(|c| ((g[0].i(), g[0].j()), c))
         })
         .collect();
     let columns = columns.into_iter().collect::<Result<Vec<_>, _>>()?;
     Ok(Solid::from_columns(grid, level, &columns))
+}
+
+/// Triangles per progress report and cancellation check.
+const CHUNK: usize = 1 << 12;
+
+/// Steps 2–3 over all triangles, in parallel chunks, in triangle order.
+fn all_crossings(
+    mesh: &Mesh,
+    lattice: &Lattice,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<Vec<Crossing>, DiscretizeError> {
+    let triangles: Vec<[u32; 3]> = mesh.fan_triangles().map(|(_, t)| t).collect();
+    let positions = mesh.positions();
+    let done = AtomicUsize::new(0);
+    let cancelled = AtomicBool::new(false);
+    let total = triangles.len().max(1) as f64;
+    let crossings: Vec<Crossing> = triangles
+        .par_chunks(CHUNK)
+        .flat_map_iter(|chunk| {
+            let mut out = Vec::new();
+            if !cancelled.load(Ordering::Relaxed) {
+                for t in chunk {
+                    lattice.triangle_crossings(t.map(|v| positions[v as usize]), &mut out);
+                }
+                let n = done.fetch_add(chunk.len(), Ordering::Relaxed) + chunk.len();
+                if !progress(n as f64 / total) {
+                    cancelled.store(true, Ordering::Relaxed);
+                }
+            }
+            out
+        })
+        .collect();
+    if cancelled.load(Ordering::Relaxed) || (triangles.is_empty() && !progress(1.0)) {
+        return Err(DiscretizeError::Cancelled);
+    }
+    Ok(crossings)
 }
 
 /// Step 1: every coordinate finite and within the grid's index range.
@@ -239,12 +314,7 @@ impl Lattice {
                 let x = self.grid.centre(self.level, i);
                 if let Some(weights) = covers(&tri, x, y) {
                     let pos = self.locate(&tri, x, y, weights, (lo[2], hi[2]));
-                    out.push(Crossing {
-                        j: j as i32,
-                        i: i as i32,
-                        pos,
-                        delta,
-                    });
+                    out.push(Crossing::new(i as i32, j as i32, pos, delta));
                 }
             }
         }
@@ -316,13 +386,13 @@ impl Lattice {
 
     /// Step 4 for one column's sorted crossings: its inside intervals in finest voxels.
     fn column(&self, crossings: &[Crossing], fill: FillRule) -> Result<Column, DiscretizeError> {
-        let (i, j) = (crossings[0].i, crossings[0].j);
+        let (i, j) = (crossings[0].i(), crossings[0].j());
         let mut base: Vec<Interval> = Vec::new();
         let mut special = Column::new();
         let mut winding = 0i64;
         let mut start: Option<i32> = None;
-        for group in crossings.chunk_by(|a, b| a.pos == b.pos) {
-            let pos = group[0].pos;
+        for group in crossings.chunk_by(|a, b| a.pos() == b.pos()) {
+            let pos = group[0].pos();
             let (first_voxel, strictly_inside) = match self.rounding {
                 Rounding::Centre => (pos, false),
                 _ => ((pos + 1).div_euclid(2), pos % 2 != 0),
@@ -330,7 +400,7 @@ impl Lattice {
             if strictly_inside {
                 special.push_merge(first_voxel - 1, first_voxel);
             }
-            winding += group.iter().map(|c| i64::from(c.delta)).sum::<i64>();
+            winding += group.iter().map(|c| i64::from(c.delta())).sum::<i64>();
             match (start, fill.inside(winding)) {
                 (None, true) => start = Some(first_voxel),
                 (Some(s), false) => {

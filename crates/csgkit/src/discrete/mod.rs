@@ -33,7 +33,9 @@ mod to_boxes;
 
 pub use brick::{BRICK_SIDE, Brick, BrickError};
 pub use column::{BoolOp, Column, ColumnError, Interval};
-pub use discretize::{DiscretizeError, DiscretizeOptions, FillRule, Rounding, discretize};
+pub use discretize::{
+    DiscretizeError, DiscretizeOptions, FillRule, Rounding, discretize, discretize_with_progress,
+};
 pub use grid::{BRICK_LEVEL, Grid, GridError, MAX_INDEX, MAX_LEVEL};
 pub use ops::OpError;
 pub use tile::{Solid, Tile, TileError, TileStats};

@@ -297,7 +297,7 @@ impl Solid {
     /// Column `(i, j)` covers finest columns `[i·2^ℓ, (i+1)·2^ℓ) × [j·2^ℓ, (j+1)·2^ℓ)`; its
     /// intervals are in finest voxel indices and must be multiples of `2^ℓ` (the discretiser
     /// produces them so). Repeated keys are not allowed.
-    pub fn from_columns(grid: Grid, level: u8, columns: &[((i32, i32), Column)]) -> Self {
+    pub(crate) fn from_columns(grid: Grid, level: u8, columns: &[((i32, i32), Column)]) -> Self {
         let r = grid.levels();
         let mut placed: Vec<((i32, i32), Placed<'_>)> = Vec::with_capacity(columns.len());
         for ((i, j), column) in columns.iter().filter(|(_, c)| !c.is_empty()) {
@@ -310,7 +310,8 @@ impl Solid {
                 }
             }
         }
-        placed.par_sort_unstable_by_key(|p| (p.0, p.1.0, p.1.1));
+        // Group by root only: a root's tile does not depend on the order of its columns.
+        placed.par_sort_unstable_by_key(|p| (i64::from(p.0.0) << 32) + i64::from(p.0.1));
         let groups: Vec<&[((i32, i32), Placed<'_>)]> = placed.chunk_by(|a, b| a.0 == b.0).collect();
         let roots = groups
             .into_par_iter()

@@ -221,3 +221,51 @@ fn result_does_not_depend_on_the_thread_count() {
     assert_eq!(a, b);
     assert_eq!(a.to_index_boxes(), b.to_index_boxes());
 }
+
+#[test]
+fn crossings_pack_and_sort_by_column_then_depth() {
+    let a = Crossing::new(-5, 7, -3, -1);
+    assert_eq!((a.i(), a.j(), a.pos(), a.delta()), (-5, 7, -3, -1));
+    let b = Crossing::new(i32::MIN + 1, i32::MAX, i32::MAX, 1);
+    assert_eq!(
+        (b.i(), b.j(), b.pos(), b.delta()),
+        (i32::MIN + 1, i32::MAX, i32::MAX, 1)
+    );
+    let mut v = [
+        Crossing::new(0, 1, 0, 1),
+        Crossing::new(1, 0, 5, -1),
+        Crossing::new(0, 0, 2, 1),
+        Crossing::new(0, 0, 2, -1),
+        Crossing::new(-1, 0, 9, 1),
+    ];
+    v.sort_unstable();
+    let keys: Vec<_> = v
+        .iter()
+        .map(|c| (c.j(), c.i(), c.pos(), c.delta()))
+        .collect();
+    assert_eq!(
+        keys,
+        vec![
+            (0, -1, 9, 1),
+            (0, 0, 2, -1),
+            (0, 0, 2, 1),
+            (0, 1, 5, -1),
+            (1, 0, 0, 1)
+        ]
+    );
+}
+
+#[test]
+fn progress_is_reported_and_cancellation_stops() {
+    let cube = cuboid([0.0; 3], [4.0; 3]);
+    let seen = std::sync::Mutex::new(Vec::new());
+    let s = discretize_with_progress(&cube, grid(), 0, DiscretizeOptions::default(), &|f| {
+        seen.lock().unwrap().push(f);
+        true
+    })
+    .unwrap();
+    assert_eq!(s.voxel_count(), 64);
+    assert_eq!(seen.lock().unwrap().last(), Some(&1.0));
+    let err = discretize_with_progress(&cube, grid(), 0, DiscretizeOptions::default(), &|_| false);
+    assert_eq!(err, Err(DiscretizeError::Cancelled));
+}
