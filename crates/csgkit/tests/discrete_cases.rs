@@ -462,3 +462,93 @@ fn shared_data_meshes_are_reachable() {
         assert!(dir.join("meshes").is_dir());
     }
 }
+
+#[test]
+fn inner_and_outer_bracket_the_centre_rounding() {
+    use csgkit::discrete::Rounding;
+    let grid = Grid::new(1.0, 4).unwrap();
+    let shapes = [
+        icosphere([0.3, -0.2, 0.45], 5.1, 2),
+        octahedron([0.5, 0.5, 0.5], 5.0),
+        parallelepiped(
+            [0.5, -1.5, 0.25],
+            [4.0, 4.0, 2.0],
+            [4.0, -2.0, -4.0],
+            [-2.0, 4.0, -4.0],
+        ),
+    ];
+    for (n, mesh) in shapes.iter().enumerate() {
+        let tris = triangles(mesh);
+        let with = |rounding| {
+            let opts = DiscretizeOptions {
+                rounding,
+                ..DiscretizeOptions::default()
+            };
+            let s = discretize(mesh, grid, 0, opts).unwrap();
+            s.check_invariants().unwrap();
+            voxel_set(&s)
+        };
+        let (inner, centre, outer) = (
+            with(Rounding::Inner),
+            with(Rounding::Centre),
+            with(Rounding::Outer),
+        );
+        assert!(
+            inner.is_subset(&centre) && centre.is_subset(&outer),
+            "shape {n}"
+        );
+        assert!(
+            inner.len() < centre.len() && centre.len() < outer.len(),
+            "shape {n}"
+        );
+        // Inner voxels are inside near both of their z faces; voxels left out of Outer are
+        // outside near both.
+        let inside_at = |x: i32, y: i32, z: f64| {
+            let q = [f64::from(x) + 0.5 + 1e-7, f64::from(y) + 0.5 - 1e-10, z];
+            winding(&tris, q).round() != 0.0
+        };
+        for &(x, y, z) in &inner {
+            let z = f64::from(z);
+            assert!(
+                inside_at(x, y, z + 1e-3) && inside_at(x, y, z + 1.0 - 1e-3),
+                "shape {n}"
+            );
+        }
+        for &(x, y, z) in centre.iter().chain(&outer) {
+            for dz in [-1, 1] {
+                let (zz, f) = (z + dz, f64::from(z + dz));
+                if !outer.contains(&(x, y, zz)) {
+                    assert!(
+                        !inside_at(x, y, f + 1e-3) && !inside_at(x, y, f + 1.0 - 1e-3),
+                        "shape {n}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn touching_and_coplanar_shells() {
+    let grid = Grid::new(1.0, 4).unwrap();
+    let opts = DiscretizeOptions::default();
+    for (lo, mid, hi) in [(0.0, 4.0, 8.0), (0.5, 4.5, 8.5)] {
+        let a = cuboid([lo; 3], [mid, mid, mid]);
+        let b = cuboid([lo, lo, mid], [mid, mid, hi]);
+        let (sa, sb) = (
+            discretize(&a, grid, 0, opts).unwrap(),
+            discretize(&b, grid, 0, opts).unwrap(),
+        );
+        assert_eq!(sa.voxel_count(), 64);
+        assert_eq!(sb.voxel_count(), 64);
+        assert!(sa.intersection(&sb).unwrap().is_empty());
+        let union = sa.union(&sb).unwrap();
+        // One mesh holding both shells: the shared face's crossings cancel at one depth.
+        let both = discretize(&concat(&[&a, &b]), grid, 0, opts).unwrap();
+        assert_eq!(both, union);
+        assert_eq!(union.voxel_count(), 128);
+        // Coplanar overlap: the same cube twice is the cube.
+        let twice = discretize(&concat(&[&a, &a]), grid, 0, opts).unwrap();
+        assert_eq!(twice, sa);
+    }
+}

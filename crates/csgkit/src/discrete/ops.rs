@@ -73,6 +73,33 @@ impl Solid {
         Ok(solid)
     }
 
+    /// `first op second op …` for all of `operands`, left to right; for ∪, ∩ and ⊕ the
+    /// operands are combined pairwise in a balanced tree, which gives the same solid (the
+    /// operations are associative and solids are canonical) with smaller intermediates.
+    /// `None` for no operand.
+    ///
+    /// # Errors
+    /// As [`Solid::op`].
+    pub fn op_all(operands: &[Solid], op: BoolOp) -> Result<Option<Solid>, OpError> {
+        match operands {
+            [] => Ok(None),
+            [one] => Ok(Some(one.clone())),
+            [first, rest @ ..] if op == BoolOp::Difference => {
+                let subtrahend = Self::op_all(rest, BoolOp::Union)?.expect("rest is not empty");
+                first.difference(&subtrahend).map(Some)
+            }
+            _ => {
+                let (left, right) = operands.split_at(operands.len() / 2);
+                let (l, r) = rayon::join(|| Self::op_all(left, op), || Self::op_all(right, op));
+                let (l, r) = (
+                    l?.expect("left half is not empty"),
+                    r?.expect("right half is not empty"),
+                );
+                l.op(&r, op).map(Some)
+            }
+        }
+    }
+
     /// `self ∪ other`.
     ///
     /// # Errors
@@ -213,6 +240,38 @@ mod tests {
             .union(&a.intersection(&b).unwrap())
             .unwrap();
         assert_eq!(back, a);
+    }
+
+    #[test]
+    fn n_ary_ops_fold_all_operands() {
+        let grid = Grid::new(1.0, 4).unwrap();
+        let solids: Vec<Solid> = (0..5)
+            .map(|n| {
+                Solid::from_columns(
+                    grid,
+                    0,
+                    &[((n, n), col(&[(n, n + 4)])), ((0, 0), col(&[(0, 2 + n)]))],
+                )
+            })
+            .collect();
+        let chained = |op: BoolOp| {
+            solids[1..]
+                .iter()
+                .fold(solids[0].clone(), |acc, s| acc.op(s, op).unwrap())
+        };
+        for op in [
+            BoolOp::Union,
+            BoolOp::Intersection,
+            BoolOp::Difference,
+            BoolOp::Xor,
+        ] {
+            assert_eq!(
+                Solid::op_all(&solids, op).unwrap(),
+                Some(chained(op)),
+                "{op:?}"
+            );
+        }
+        assert_eq!(Solid::op_all(&[], BoolOp::Union), Ok(None));
     }
 
     #[test]
