@@ -21,7 +21,8 @@
 //! are lattice planes `fl(k·h)`. Deterministic: columns are visited in sorted order.
 //! Cost: `O(F)` for `F` unit faces, plus a hash map of the footprint's finest columns.
 
-use std::collections::HashMap;
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
 use super::column::{BoolOp, Column};
 use super::tile::Solid;
@@ -41,14 +42,14 @@ const SIDES: [[[i32; 3]; 4]; 6] = [
 /// Collects unit quads with shared, deduplicated lattice vertices.
 #[derive(Default)]
 struct QuadBuilder {
-    index: HashMap<[i32; 3], u32>,
+    index: FxHashMap<[i32; 3], u32>,
     vertices: Vec<[i32; 3]>,
     corners: Vec<u32>,
 }
 
 impl QuadBuilder {
-    fn quad(&mut self, voxel: [i32; 3], side: usize) {
-        for offset in SIDES[side] {
+    fn quad(&mut self, (voxel, side): ([i32; 3], u8)) {
+        for offset in SIDES[usize::from(side)] {
             let p = [0, 1, 2].map(|d| voxel[d] + offset[d]);
             let next = self.vertices.len() as u32;
             let v = *self.index.entry(p).or_insert(next);
@@ -60,6 +61,28 @@ impl QuadBuilder {
     }
 }
 
+/// The exposed unit faces `(voxel, side)` of one finest column, bottom and top first.
+fn column_faces(
+    columns: &FxHashMap<(i32, i32), Column>,
+    (x, y): (i32, i32),
+) -> Vec<([i32; 3], u8)> {
+    let column = &columns[&(x, y)];
+    let empty = Column::new();
+    let mut out = Vec::new();
+    for iv in column.intervals() {
+        out.push(([x, y, iv.z0], 4));
+        out.push(([x, y, iv.z1 - 1], 5));
+    }
+    let neighbours = [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)];
+    for (side, key) in (0u8..).zip(neighbours) {
+        let other = columns.get(&key).unwrap_or(&empty);
+        for iv in column.op(other, BoolOp::Difference).intervals() {
+            out.extend((iv.z0..iv.z1).map(|z| ([x, y, z], side)));
+        }
+    }
+    out
+}
+
 impl Solid {
     /// The solid's boundary as unit surfels: a closed, T-junction-free quad mesh.
     ///
@@ -68,25 +91,13 @@ impl Solid {
     pub fn to_surfel_mesh(&self) -> Result<Mesh, InvalidMesh> {
         let columns = self.finest_columns();
         let mut keys: Vec<(i32, i32)> = columns.keys().copied().collect();
-        keys.sort_unstable();
-        let empty = Column::new();
+        keys.par_sort_unstable();
+        let faces: Vec<Vec<([i32; 3], u8)>> = keys
+            .par_iter()
+            .map(|&k| column_faces(&columns, k))
+            .collect();
         let mut quads = QuadBuilder::default();
-        for (x, y) in keys {
-            let column = &columns[&(x, y)];
-            for iv in column.intervals() {
-                quads.quad([x, y, iv.z0], 4);
-                quads.quad([x, y, iv.z1 - 1], 5);
-            }
-            let neighbours = [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)];
-            for (side, key) in neighbours.into_iter().enumerate() {
-                let other = columns.get(&key).unwrap_or(&empty);
-                for iv in column.op(other, BoolOp::Difference).intervals() {
-                    for z in iv.z0..iv.z1 {
-                        quads.quad([x, y, z], side);
-                    }
-                }
-            }
-        }
+        faces.into_iter().flatten().for_each(|f| quads.quad(f));
         let grid = *self.grid();
         let n = quads.corners.len() / 4;
         Mesh::from_parts(MeshParts {
@@ -102,8 +113,8 @@ impl Solid {
     }
 
     /// Every non-empty finest column by its index.
-    fn finest_columns(&self) -> HashMap<(i32, i32), Column> {
-        let mut out = HashMap::new();
+    fn finest_columns(&self) -> FxHashMap<(i32, i32), Column> {
+        let mut out = FxHashMap::default();
         self.for_each_column(|x, y, size, column| {
             for dy in 0..size {
                 for dx in 0..size {
@@ -127,7 +138,7 @@ mod tests {
 
     /// Checks balanced directed edges and unit edge lengths; returns the signed volume in voxels.
     fn check_closed(mesh: &Mesh) -> i64 {
-        let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
+        let mut edges: FxHashMap<(u32, u32), i32> = FxHashMap::default();
         for face in mesh.faces() {
             for k in 0..face.len() {
                 let (a, b) = (face[k], face[(k + 1) % face.len()]);
