@@ -20,7 +20,12 @@
 
 pub mod discrete;
 mod index;
+pub mod io;
 pub mod mesh;
 
 pub use index::{Aabb, Bvh};
+pub use io::{
+    Encoding, Format, LoadedMesh, Location, ParseError, ReadError, WriteError, WriteOptions,
+    read_mesh, read_mesh_from_bytes, write_mesh, write_mesh_to_bytes,
+};
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};

@@ -2,10 +2,14 @@
 
 use std::path::PathBuf;
 
-/// The shared data folder (`../shared/data` beside the repository), or `None` with a message
-/// when it is absent, so tests that need real data skip instead of failing.
+/// The shared data folder (`../shared/data` beside the repository, or `$CSGKIT_SHARED_DATA`
+/// for a work tree kept elsewhere), or `None` with a message when it is absent, so tests that
+/// need real data skip instead of failing.
 pub fn shared_data() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data");
+    let dir = std::env::var_os("CSGKIT_SHARED_DATA").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"),
+        PathBuf::from,
+    );
     if dir.is_dir() {
         Some(dir)
     } else {

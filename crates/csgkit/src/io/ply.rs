@@ -1,0 +1,774 @@
+//! Stanford PLY, ASCII and binary (little- and big-endian): reader and writer.
+//!
+//! The reader takes the `vertex` element's `x y z` (any scalar type) and `red green blue
+//! alpha` (integers 0–255 or floats 0–1), and the `face` element's `vertex_indices` (or
+//! `vertex_index`) list with any count and index types, a `material_index` (or `material_id`,
+//! `material`) number and a face colour. Every other element and property, lists included,
+//! is skipped. Material numbers become ids into names `material_N`, sorted by `N`.
+//! The `vertex` element must precede `face`, as in every PLY writer in use.
+//!
+//! Every PLY scalar type (at most 32-bit integers, `float`, `double`) is exact in f64, so one
+//! value path serves all types. Header counts are checked against the body's size before any
+//! allocation.
+//!
+//! Hand-written rather than `ply-rs`: it stores each element as a hash map of named
+//! properties, an allocation per vertex and face, and has no error locations.
+//!
+//! The writer emits binary little-endian by default (ASCII on request), `double` coordinates,
+//! `uchar` colours, and a `list uchar int vertex_indices` (`uint` counts past 255 corners).
+
+use super::builder::{FaceAttributes, MeshBuilder};
+use super::error::{Location, ParseError, malformed};
+use super::text::{Lines, Tokens, channel, check_finite, parse_f64, parse_i64};
+use super::{Encoding, Format, LoadedMesh};
+use crate::mesh::Mesh;
+
+/// A PLY scalar type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn parse(name: &[u8]) -> Option<Scalar> {
+        Some(match name {
+            b"char" | b"int8" => Scalar::I8,
+            b"uchar" | b"uint8" => Scalar::U8,
+            b"short" | b"int16" => Scalar::I16,
+            b"ushort" | b"uint16" => Scalar::U16,
+            b"int" | b"int32" => Scalar::I32,
+            b"uint" | b"uint32" => Scalar::U32,
+            b"float" | b"float32" => Scalar::F32,
+            b"double" | b"float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    fn is_float(self) -> bool {
+        matches!(self, Scalar::F32 | Scalar::F64)
+    }
+}
+
+/// A property: a scalar, or a list with a count type and an item type.
+#[derive(Clone, Debug)]
+struct Property {
+    name: String,
+    /// `Some(count type)` for a list.
+    list: Option<Scalar>,
+    item: Scalar,
+}
+
+#[derive(Clone, Debug)]
+struct Element {
+    name: String,
+    count: usize,
+    properties: Vec<Property>,
+    line: usize,
+}
+
+impl Element {
+    /// The fewest bytes one instance can take: in binary its scalars and list counts; in ASCII
+    /// one digit and a separator per property.
+    fn min_size(&self, binary: bool) -> usize {
+        let sizes = self
+            .properties
+            .iter()
+            .map(|p| p.list.unwrap_or(p.item).size());
+        if binary {
+            sizes.sum()
+        } else {
+            2 * self.properties.len()
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Body {
+    Ascii,
+    Little,
+    Big,
+}
+
+struct Header {
+    body: Body,
+    elements: Vec<Element>,
+    /// Byte offset and number of the header's last line.
+    body_start: usize,
+    lines: usize,
+}
+
+/// Reads a PLY file held in memory.
+pub(crate) fn read(data: &[u8]) -> Result<LoadedMesh, ParseError> {
+    if data.is_empty() {
+        return Err(ParseError::Empty {
+            format: Format::Ply,
+        });
+    }
+    let header = read_header(data)?;
+    let binary = header.body != Body::Ascii;
+    let room = data.len() - header.body_start;
+    let mut needed = 0usize;
+    for element in &header.elements {
+        needed = needed.saturating_add(element.count.saturating_mul(element.min_size(binary)));
+        if needed > room {
+            let reason = "the rest of the file cannot hold that many";
+            return Err(ParseError::CountTooLarge {
+                what: "PLY element",
+                count: element.count as u64,
+                reason,
+            });
+        }
+    }
+    let (mesh, raw_vertex_count) = match header.body {
+        Body::Ascii => {
+            let lines = Lines::new(&data[header.body_start..]);
+            let tokens = Tokens::new(b"");
+            read_body(
+                &header,
+                Ascii {
+                    lines,
+                    tokens,
+                    line: header.lines,
+                },
+            )?
+        }
+        Body::Little => read_body(
+            &header,
+            Binary::<false> {
+                data,
+                pos: header.body_start,
+            },
+        )?,
+        Body::Big => read_body(
+            &header,
+            Binary::<true> {
+                data,
+                pos: header.body_start,
+            },
+        )?,
+    };
+    let encoding = if binary {
+        Encoding::Binary
+    } else {
+        Encoding::Ascii
+    };
+    Ok(LoadedMesh {
+        mesh,
+        format: Format::Ply,
+        encoding,
+        raw_vertex_count,
+    })
+}
+
+fn read_header(data: &[u8]) -> Result<Header, ParseError> {
+    let mut lines = Lines::new(data);
+    let first = lines.next().map(|(_, line)| line);
+    if first != Some(b"ply") {
+        return Err(malformed(
+            Format::Ply,
+            Location::Line(1),
+            "the first line must be \"ply\"",
+        ));
+    }
+    let mut body = None;
+    let mut elements: Vec<Element> = Vec::new();
+    while let Some((number, line)) = lines.next() {
+        let at = Location::Line(number);
+        let mut tokens = Tokens::new(line);
+        match tokens.next() {
+            Some(b"format") => body = Some(body_format(tokens, at)?),
+            Some(b"element") => elements.push(element(tokens, at, number)?),
+            Some(b"property") => {
+                let element = elements
+                    .last_mut()
+                    .ok_or_else(|| malformed(Format::Ply, at, "property before any element"))?;
+                element.properties.push(property(tokens, at)?);
+            }
+            Some(b"end_header") => {
+                let body = body.ok_or_else(|| malformed(Format::Ply, at, "no format line"))?;
+                let body_start = data.len() - lines.rest().len();
+                return Ok(Header {
+                    body,
+                    elements,
+                    body_start,
+                    lines: number,
+                });
+            }
+            None | Some(b"comment" | b"obj_info") => {}
+            Some(_) => return Err(malformed(Format::Ply, at, "unknown header line")),
+        }
+    }
+    let at = Location::Line(data.split(|&b| b == b'\n').count());
+    Err(malformed(Format::Ply, at, "the header has no end_header"))
+}
+
+fn body_format(mut tokens: Tokens<'_>, at: Location) -> Result<Body, ParseError> {
+    match tokens.next() {
+        Some(b"ascii") => Ok(Body::Ascii),
+        Some(b"binary_little_endian") => Ok(Body::Little),
+        Some(b"binary_big_endian") => Ok(Body::Big),
+        other => {
+            let feature = format!(
+                "format {}",
+                String::from_utf8_lossy(other.unwrap_or_default())
+            );
+            Err(ParseError::Unsupported {
+                format: Format::Ply,
+                feature,
+                at,
+            })
+        }
+    }
+}
+
+fn element(mut tokens: Tokens<'_>, at: Location, line: usize) -> Result<Element, ParseError> {
+    let (Some(name), Some(count)) = (tokens.next(), tokens.next()) else {
+        return Err(malformed(
+            Format::Ply,
+            at,
+            "element needs a name and a count",
+        ));
+    };
+    let count = parse_i64(count, at)?;
+    let count =
+        usize::try_from(count).map_err(|_| malformed(Format::Ply, at, "negative element count"))?;
+    let name = String::from_utf8_lossy(name).into_owned();
+    Ok(Element {
+        name,
+        count,
+        properties: Vec::new(),
+        line,
+    })
+}
+
+fn property(mut tokens: Tokens<'_>, at: Location) -> Result<Property, ParseError> {
+    let scalar = |token: Option<&[u8]>| {
+        let token = token.unwrap_or_default();
+        Scalar::parse(token).ok_or_else(|| {
+            let feature = format!("property type {:?}", String::from_utf8_lossy(token));
+            ParseError::Unsupported {
+                format: Format::Ply,
+                feature,
+                at,
+            }
+        })
+    };
+    let first = tokens.next();
+    let (list, item) = if first == Some(b"list") {
+        (Some(scalar(tokens.next())?), scalar(tokens.next())?)
+    } else {
+        (None, scalar(first)?)
+    };
+    let name = tokens
+        .next()
+        .ok_or_else(|| malformed(Format::Ply, at, "property needs a name"))?;
+    Ok(Property {
+        name: String::from_utf8_lossy(name).into_owned(),
+        list,
+        item,
+    })
+}
+
+/// A stream of PLY values, binary or ASCII.
+trait Source {
+    /// The next value, of type `ty` (exact in f64 for every PLY type).
+    fn value(&mut self, ty: Scalar) -> Result<f64, ParseError>;
+    /// Where the next value starts.
+    fn at(&mut self) -> Location;
+    /// Appends the next `n` values of type `ty` to `out` as integers; a value that is not an
+    /// integer becomes -1 (an invalid index).
+    fn integers(&mut self, ty: Scalar, n: usize, out: &mut Vec<i64>) -> Result<(), ParseError> {
+        for _ in 0..n {
+            out.push(integer(self.value(ty)?));
+        }
+        Ok(())
+    }
+}
+
+/// `value` as an integer, or -1 if it is not one.
+fn integer(value: f64) -> i64 {
+    let int = value as i64;
+    if int as f64 == value { int } else { -1 }
+}
+
+/// A `N`-byte word from a slice of exactly `N` bytes, in native order.
+#[inline]
+fn word<const N: usize, const BIG: bool>(bytes: &[u8]) -> [u8; N] {
+    let mut word: [u8; N] = bytes.try_into().unwrap_or([0; N]);
+    if BIG {
+        word.reverse();
+    }
+    word
+}
+
+struct Binary<'a, const BIG: bool> {
+    data: &'a [u8],
+    pos: usize,
+}
+
+impl<const BIG: bool> Binary<'_, BIG> {
+    #[inline]
+    fn bytes<const N: usize>(&mut self) -> Result<[u8; N], ParseError> {
+        let end = self.pos + N;
+        let slice = self.data.get(self.pos..end).ok_or(ParseError::Truncated {
+            what: "PLY body",
+            expected: end,
+            actual: self.data.len(),
+        })?;
+        let mut bytes: [u8; N] = slice.try_into().unwrap_or([0; N]);
+        if BIG {
+            bytes.reverse();
+        }
+        self.pos = end;
+        Ok(bytes)
+    }
+}
+
+impl<const BIG: bool> Source for Binary<'_, BIG> {
+    #[inline]
+    fn value(&mut self, ty: Scalar) -> Result<f64, ParseError> {
+        Ok(match ty {
+            Scalar::I8 => f64::from(i8::from_le_bytes(self.bytes()?)),
+            Scalar::U8 => f64::from(u8::from_le_bytes(self.bytes()?)),
+            Scalar::I16 => f64::from(i16::from_le_bytes(self.bytes()?)),
+            Scalar::U16 => f64::from(u16::from_le_bytes(self.bytes()?)),
+            Scalar::I32 => f64::from(i32::from_le_bytes(self.bytes()?)),
+            Scalar::U32 => f64::from(u32::from_le_bytes(self.bytes()?)),
+            Scalar::F32 => f64::from(f32::from_le_bytes(self.bytes()?)),
+            Scalar::F64 => f64::from_le_bytes(self.bytes()?),
+        })
+    }
+
+    fn at(&mut self) -> Location {
+        Location::Byte(self.pos)
+    }
+
+    /// Decodes integer lists from one bounds-checked slice: the hot loop of face reading.
+    fn integers(&mut self, ty: Scalar, n: usize, out: &mut Vec<i64>) -> Result<(), ParseError> {
+        let len = n.saturating_mul(ty.size());
+        let end = self.pos.saturating_add(len);
+        let Some(bytes) = self.data.get(self.pos..end) else {
+            let actual = self.data.len();
+            return Err(ParseError::Truncated {
+                what: "PLY body",
+                expected: end,
+                actual,
+            });
+        };
+        self.pos = end;
+        let chunks = bytes.chunks_exact(ty.size());
+        match ty {
+            Scalar::I8 => {
+                out.extend(chunks.map(|c| i64::from(i8::from_le_bytes(word::<1, BIG>(c)))))
+            }
+            Scalar::U8 => out.extend(bytes.iter().map(|&b| i64::from(b))),
+            Scalar::I16 => {
+                out.extend(chunks.map(|c| i64::from(i16::from_le_bytes(word::<2, BIG>(c)))))
+            }
+            Scalar::U16 => {
+                out.extend(chunks.map(|c| i64::from(u16::from_le_bytes(word::<2, BIG>(c)))))
+            }
+            Scalar::I32 => {
+                out.extend(chunks.map(|c| i64::from(i32::from_le_bytes(word::<4, BIG>(c)))))
+            }
+            Scalar::U32 => {
+                out.extend(chunks.map(|c| i64::from(u32::from_le_bytes(word::<4, BIG>(c)))))
+            }
+            Scalar::F32 => out
+                .extend(chunks.map(|c| integer(f64::from(f32::from_le_bytes(word::<4, BIG>(c)))))),
+            Scalar::F64 => {
+                out.extend(chunks.map(|c| integer(f64::from_le_bytes(word::<8, BIG>(c)))))
+            }
+        }
+        Ok(())
+    }
+}
+
+struct Ascii<'a> {
+    lines: Lines<'a>,
+    tokens: Tokens<'a>,
+    /// Lines before the body start, plus the body lines read so far.
+    line: usize,
+}
+
+impl Ascii<'_> {
+    /// Moves to the line holding the next token; false at the end of the file.
+    fn fill(&mut self) -> bool {
+        while self.tokens.clone().next().is_none() {
+            match self.lines.next() {
+                Some((_, line)) => {
+                    self.tokens = Tokens::new(line);
+                    self.line += 1;
+                }
+                None => return false,
+            }
+        }
+        true
+    }
+}
+
+impl Source for Ascii<'_> {
+    fn value(&mut self, _ty: Scalar) -> Result<f64, ParseError> {
+        if !self.fill() {
+            let at = Location::Line(self.line);
+            return Err(malformed(
+                Format::Ply,
+                at,
+                "the file ends inside the element data",
+            ));
+        }
+        let token = self.tokens.next().unwrap_or_default();
+        parse_f64(token, Location::Line(self.line))
+    }
+
+    fn at(&mut self) -> Location {
+        self.fill();
+        Location::Line(self.line)
+    }
+}
+
+/// A list length or index read as f64: a non-negative integer, or `None`.
+fn whole(value: f64) -> Option<usize> {
+    // The round trip through u32 tests integrality without a call to `trunc`.
+    let int = value as u32;
+    (f64::from(int) == value).then_some(int as usize)
+}
+
+/// Reads and drops one property value.
+fn skip<S: Source>(src: &mut S, property: &Property) -> Result<(), ParseError> {
+    let Some(count_type) = property.list else {
+        return src.value(property.item).map(drop);
+    };
+    let at = src.at();
+    let count = whole(src.value(count_type)?)
+        .ok_or_else(|| malformed(Format::Ply, at, "bad list length"))?;
+    for _ in 0..count {
+        src.value(property.item)?;
+    }
+    Ok(())
+}
+
+/// Reads every element; returns the mesh and the vertex count.
+fn read_body<S: Source>(header: &Header, mut src: S) -> Result<(Mesh, usize), ParseError> {
+    let count = |name: &str| {
+        header
+            .elements
+            .iter()
+            .find(|e| e.name == name)
+            .map_or(0, |e| e.count)
+    };
+    // `read` checked every count against the body's size, so these reservations are bounded.
+    let mut builder = MeshBuilder::with_capacity(count("vertex"), count("face"));
+    let mut materials = Vec::new();
+    let (mut seen_vertex, mut seen_face) = (false, false);
+    for element in &header.elements {
+        match element.name.as_str() {
+            "vertex" if !seen_vertex => {
+                seen_vertex = true;
+                read_vertices(&mut src, element, &mut builder)?;
+            }
+            "face" if !seen_face => {
+                seen_face = true;
+                read_faces(&mut src, element, &mut builder, &mut materials)?;
+            }
+            // An element without properties takes no byte, whatever its count.
+            _ if element.properties.is_empty() => {}
+            _ => {
+                for _ in 0..element.count {
+                    for property in &element.properties {
+                        skip(&mut src, property)?;
+                    }
+                }
+            }
+        }
+    }
+    if !materials.is_empty() {
+        set_materials(&mut builder, &materials);
+    }
+    let vertices = builder.vertex_count();
+    Ok((builder.finish()?, vertices))
+}
+
+/// What a property of a vertex or face means to csgkit.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Role {
+    Coordinate(usize),
+    Color(usize),
+    Indices,
+    Material,
+    Skip,
+}
+
+const CHANNELS: [&str; 4] = ["red", "green", "blue", "alpha"];
+
+fn vertex_role(property: &Property) -> Role {
+    let coordinate = ["x", "y", "z"].iter().position(|&n| n == property.name);
+    let color = CHANNELS.iter().position(|&n| n == property.name);
+    match (property.list, coordinate, color) {
+        (None, Some(k), _) => Role::Coordinate(k),
+        (None, _, Some(k)) => Role::Color(k),
+        _ => Role::Skip,
+    }
+}
+
+fn read_vertices<S: Source>(
+    src: &mut S,
+    element: &Element,
+    builder: &mut MeshBuilder,
+) -> Result<(), ParseError> {
+    let roles: Vec<Role> = element.properties.iter().map(vertex_role).collect();
+    let at = Location::Line(element.line);
+    for k in 0..3 {
+        if !roles.contains(&Role::Coordinate(k)) {
+            return Err(malformed(
+                Format::Ply,
+                at,
+                "the vertex element lacks x, y or z",
+            ));
+        }
+    }
+    let has_color = roles.iter().any(|r| matches!(r, Role::Color(_)));
+    for v in 0..element.count {
+        let at = src.at();
+        let (mut p, mut color) = ([0.0; 3], [255u8; 4]);
+        for (property, role) in element.properties.iter().zip(&roles) {
+            match *role {
+                Role::Coordinate(k) => p[k] = src.value(property.item)?,
+                Role::Color(k) => {
+                    color[k] = channel(src.value(property.item)?, property.item.is_float())
+                }
+                _ => skip(src, property)?,
+            }
+        }
+        check_finite(p, v, at)?;
+        builder.push_vertex(p, has_color.then_some(color));
+    }
+    Ok(())
+}
+
+fn face_role(property: &Property) -> Role {
+    let name = property.name.as_str();
+    match property.list {
+        Some(_) if matches!(name, "vertex_indices" | "vertex_index") => Role::Indices,
+        None if matches!(name, "material_index" | "material_id" | "material") => Role::Material,
+        None => CHANNELS
+            .iter()
+            .position(|&n| n == name)
+            .map_or(Role::Skip, Role::Color),
+        Some(_) => Role::Skip,
+    }
+}
+
+fn read_faces<S: Source>(
+    src: &mut S,
+    element: &Element,
+    builder: &mut MeshBuilder,
+    materials: &mut Vec<f64>,
+) -> Result<(), ParseError> {
+    let roles: Vec<Role> = element.properties.iter().map(face_role).collect();
+    if !roles.contains(&Role::Indices) {
+        let at = Location::Line(element.line);
+        return Err(malformed(
+            Format::Ply,
+            at,
+            "the face element lacks a vertex_indices list",
+        ));
+    }
+    let has_color = roles.iter().any(|r| matches!(r, Role::Color(_)));
+    let mut scratch = Vec::new();
+    for face in 0..element.count {
+        let mut color = [255u8; 4];
+        for (property, role) in element.properties.iter().zip(&roles) {
+            match *role {
+                Role::Indices => read_indices(src, property, face, builder, &mut scratch)?,
+                Role::Material => materials.push(src.value(property.item)?),
+                Role::Color(k) => {
+                    color[k] = channel(src.value(property.item)?, property.item.is_float())
+                }
+                _ => skip(src, property)?,
+            }
+        }
+        let attributes = FaceAttributes {
+            color: has_color.then_some(color),
+            ..FaceAttributes::default()
+        };
+        builder.end_face(attributes)?;
+    }
+    Ok(())
+}
+
+fn read_indices<S: Source>(
+    src: &mut S,
+    property: &Property,
+    face: usize,
+    builder: &mut MeshBuilder,
+    scratch: &mut Vec<i64>,
+) -> Result<(), ParseError> {
+    let at = src.at();
+    let count_type = property.list.unwrap_or(Scalar::U8);
+    let count = src.value(count_type)?;
+    let corners = whole(count).ok_or_else(|| malformed(Format::Ply, at, "bad list length"))?;
+    if corners < 3 {
+        return Err(ParseError::TooFewCorners { face, corners, at });
+    }
+    scratch.clear();
+    src.integers(property.item, corners, scratch)?;
+    let count = builder.vertex_count();
+    if let Some(&index) = scratch.iter().find(|&&i| i < 0 || i >= count as i64) {
+        let what = "vertex";
+        return Err(ParseError::IndexOutOfRange {
+            face,
+            what,
+            index,
+            count,
+            at,
+        });
+    }
+    // Every index is in 0..vertex_count, which the builder keeps within u32.
+    builder.push_corners(scratch.iter().map(|&i| i as u32));
+    Ok(())
+}
+
+/// Turns the material numbers of the faces into ids of names `material_N`, sorted by `N`.
+fn set_materials(builder: &mut MeshBuilder, numbers: &[f64]) {
+    let mut distinct: Vec<f64> = numbers.to_vec();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup();
+    let ids = numbers
+        .iter()
+        .map(|n| distinct.partition_point(|d| d.total_cmp(n).is_lt()) as u32)
+        .collect();
+    let names = distinct.iter().map(|n| format!("material_{n}")).collect();
+    builder.set_materials(ids, names);
+}
+
+/// Appends `mesh` as PLY (binary little-endian or ASCII) to `out`.
+pub(crate) fn write(mesh: &Mesh, encoding: Encoding, out: &mut Vec<u8>) {
+    let ascii = encoding == Encoding::Ascii;
+    let wide = mesh.faces().any(|f| f.len() > 255);
+    write_header(mesh, ascii, wide, out);
+    let mut w = Writer {
+        out,
+        ascii,
+        f: ryu::Buffer::new(),
+        int: itoa::Buffer::new(),
+    };
+    let colors = mesh.vertex_colors();
+    for (v, p) in mesh.positions().iter().enumerate() {
+        for (k, &c) in p.iter().enumerate() {
+            w.double(c, k == 0);
+        }
+        for &c in colors.map(|c| &c[v][..]).unwrap_or_default() {
+            w.uint(u32::from(c), 1, false);
+        }
+        w.end();
+    }
+    for (face, corners) in mesh.faces().enumerate() {
+        w.uint(corners.len() as u32, if wide { 4 } else { 1 }, true);
+        for &v in corners {
+            w.uint(v, 4, false);
+        }
+        if let Some(materials) = mesh.face_materials() {
+            w.uint(materials[face], 4, false);
+        }
+        for &c in mesh.face_colors().map(|c| &c[face][..]).unwrap_or_default() {
+            w.uint(u32::from(c), 1, false);
+        }
+        w.end();
+    }
+}
+
+fn write_header(mesh: &Mesh, ascii: bool, wide: bool, out: &mut Vec<u8>) {
+    let mut h = String::from("ply\n");
+    h += if ascii {
+        "format ascii 1.0\n"
+    } else {
+        "format binary_little_endian 1.0\n"
+    };
+    h += "comment written by csgkit\n";
+    h += &format!("element vertex {}\n", mesh.vertex_count());
+    h += "property double x\nproperty double y\nproperty double z\n";
+    let channels = |h: &mut String| {
+        CHANNELS
+            .iter()
+            .for_each(|c| *h += &format!("property uchar {c}\n"))
+    };
+    if mesh.vertex_colors().is_some() {
+        channels(&mut h);
+    }
+    h += &format!("element face {}\n", mesh.face_count());
+    h += if wide {
+        "property list uint int vertex_indices\n"
+    } else {
+        "property list uchar int vertex_indices\n"
+    };
+    if mesh.face_materials().is_some() {
+        h += "property int material_index\n";
+    }
+    if mesh.face_colors().is_some() {
+        channels(&mut h);
+    }
+    h += "end_header\n";
+    out.extend_from_slice(h.as_bytes());
+}
+
+/// Writes values as little-endian binary or as space-separated ASCII lines.
+struct Writer<'a> {
+    out: &'a mut Vec<u8>,
+    ascii: bool,
+    f: ryu::Buffer,
+    int: itoa::Buffer,
+}
+
+impl Writer<'_> {
+    fn separate(&mut self, first: bool) {
+        if self.ascii && !first {
+            self.out.push(b' ');
+        }
+    }
+
+    fn double(&mut self, value: f64, first: bool) {
+        self.separate(first);
+        if self.ascii {
+            self.out.extend_from_slice(self.f.format(value).as_bytes());
+        } else {
+            self.out.extend_from_slice(&value.to_le_bytes());
+        }
+    }
+
+    /// Writes `value` as a `width`-byte integer (1 or 4) in binary.
+    fn uint(&mut self, value: u32, width: usize, first: bool) {
+        self.separate(first);
+        if self.ascii {
+            self.out
+                .extend_from_slice(self.int.format(value).as_bytes());
+        } else {
+            self.out.extend_from_slice(&value.to_le_bytes()[..width]);
+        }
+    }
+
+    fn end(&mut self) {
+        if self.ascii {
+            self.out.push(b'\n');
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
