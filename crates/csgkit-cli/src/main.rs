@@ -4,6 +4,7 @@
 //! valid solid), 2 any error (bad input, failed operation, usage).
 
 mod cli;
+mod discrete;
 
 use std::process::ExitCode;
 
