@@ -12,7 +12,7 @@ use csgkit::Mesh;
 use csgkit::discrete::{BoolOp, DiscretizeError, DiscretizeOptions, Grid, Solid, discretize};
 use robust::{Coord, orient2d};
 
-use crate::util::shared_data;
+use crate::util::{repo_data, shared_data};
 
 /// The parallelepiped `o + a·u + b·v + c·w`, `a, b, c ∈ [0, 1]`; `(u, v, w)` right-handed.
 fn parallelepiped(o: [f64; 3], u: [f64; 3], v: [f64; 3], w: [f64; 3]) -> Mesh {
@@ -456,11 +456,154 @@ fn an_open_mesh_is_an_error_not_a_panic() {
 }
 
 #[test]
-fn shared_data_meshes_are_reachable() {
-    // Real meshes need the io readers; until they land this only checks the fixture.
-    if let Some(dir) = shared_data() {
-        assert!(dir.join("meshes").is_dir());
+fn the_repo_cube_file_voxelises_exactly() {
+    // Unit cube of quads at h = 1/8: centres 1/16 .. 15/16 on each axis, 8³ voxels.
+    let mesh = csgkit::io::read_mesh(repo_data("cube.obj")).unwrap().mesh;
+    let s = discretize(
+        &mesh,
+        Grid::new(0.125, 3).unwrap(),
+        0,
+        DiscretizeOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(s.voxel_count(), 512);
+    assert_eq!(s.stats().uniform, 1);
+}
+
+/// A shared data mesh and the cell giving `n` cells along its longest side.
+fn data_mesh(name: &str, n: f64) -> Option<(Mesh, f64)> {
+    let path = shared_data()?.join("meshes").join(name);
+    let mesh = csgkit::io::read_mesh(&path).unwrap().mesh;
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for p in mesh.positions() {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
     }
+    let longest = (0..3).map(|d| hi[d] - lo[d]).fold(0.0, f64::max);
+    Some((mesh, longest / n))
+}
+
+fn signed_volume(mesh: &Mesh) -> f64 {
+    triangles(mesh)
+        .iter()
+        .map(|[a, b, c]| {
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
+        })
+        .sum()
+}
+
+#[test]
+fn data_meshes_voxelise_to_their_volume_with_a_closed_surfel_mesh() {
+    for name in ["bunny_watertight.obj", "armadillo.obj"] {
+        let Some((mesh, h)) = data_mesh(name, 64.0) else {
+            return;
+        };
+        let grid = Grid::new(h, 8).unwrap();
+        let s = discretize(&mesh, grid, 0, DiscretizeOptions::default()).unwrap();
+        s.check_invariants().unwrap();
+        let exact = signed_volume(&mesh);
+        let voxels = s.voxel_count() as f64 * h * h * h;
+        assert!(
+            (voxels - exact).abs() / exact < 0.02,
+            "{name}: {voxels} vs {exact}"
+        );
+        // The surfel mesh: every directed edge matched, volume = voxel count exactly (in
+        // lattice units, where the coordinates are integers).
+        let surfels = s.to_surfel_mesh().unwrap();
+        let mut edges = std::collections::HashMap::new();
+        let mut six = 0i128;
+        for face in surfels.faces() {
+            let p: Vec<[i128; 3]> = face
+                .iter()
+                .map(|&v| surfels.positions()[v as usize].map(|x| (x / h).round() as i128))
+                .collect();
+            for k in 0..face.len() {
+                let (a, b) = (face[k], face[(k + 1) % face.len()]);
+                *edges.entry((a.min(b), a.max(b))).or_insert(0i64) += if a < b { 1 } else { -1 };
+            }
+            for k in 1..p.len() - 1 {
+                let (a, b, c) = (p[0], p[k], p[k + 1]);
+                six += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                    + a[2] * (b[0] * c[1] - b[1] * c[0]);
+            }
+        }
+        assert!(
+            edges.values().all(|&n| n == 0),
+            "{name}: surfel mesh is open"
+        );
+        assert_eq!(six, 6 * i128::from(s.voxel_count()), "{name}");
+    }
+}
+
+#[test]
+fn data_meshes_at_mixed_resolutions_combine_voxelwise() {
+    let Some((bunny, h)) = data_mesh("bunny_watertight.obj", 48.0) else {
+        return;
+    };
+    let grid = Grid::new(h, 8).unwrap();
+    let opts = DiscretizeOptions::default();
+    let coarse = discretize(&bunny, grid, 2, opts).unwrap();
+    // The same bunny at the fine level, shifted by 5.5 cells along x.
+    let shifted: Vec<[f64; 3]> = bunny
+        .positions()
+        .iter()
+        .map(|p| [p[0] + 5.5 * h, p[1], p[2]])
+        .collect();
+    let tris: Vec<[u32; 3]> = bunny.fan_triangles().map(|(_, t)| t).collect();
+    let fine = discretize(
+        &Mesh::from_triangles(shifted, &tris).unwrap(),
+        grid,
+        0,
+        opts,
+    )
+    .unwrap();
+    let (va, vb) = (voxel_set(&coarse), voxel_set(&fine));
+    for op in [
+        BoolOp::Union,
+        BoolOp::Intersection,
+        BoolOp::Difference,
+        BoolOp::Xor,
+    ] {
+        let r = coarse.op(&fine, op).unwrap();
+        r.check_invariants().unwrap();
+        assert_eq!(voxel_set(&r), apply(op, &va, &vb), "{op:?}");
+    }
+}
+
+#[test]
+fn a_data_mesh_with_a_hole_is_an_error() {
+    let Some((bunny, h)) = data_mesh("bunny_watertight.obj", 32.0) else {
+        return;
+    };
+    // Drop a triangle that is not vertical and move the mesh so a column ray hits its centroid.
+    let xy = |p: [f64; 3]| Coord { x: p[0], y: p[1] };
+    let mut tris: Vec<[u32; 3]> = bunny.fan_triangles().map(|(_, t)| t).collect();
+    let hole = tris
+        .iter()
+        .position(|t| {
+            let [a, b, c] = t.map(|v| bunny.positions()[v as usize]);
+            orient2d(xy(a), xy(b), xy(c)).abs() > 1e-6 * h * h
+        })
+        .unwrap();
+    let removed = tris.remove(hole).map(|v| bunny.positions()[v as usize]);
+    let centroid = [0, 1].map(|d| (removed[0][d] + removed[1][d] + removed[2][d]) / 3.0);
+    let shift = [0.5 * h - centroid[0], 0.5 * h - centroid[1]];
+    let moved: Vec<[f64; 3]> = bunny
+        .positions()
+        .iter()
+        .map(|p| [p[0] + shift[0], p[1] + shift[1], p[2]])
+        .collect();
+    let open = Mesh::from_triangles(moved, &tris).unwrap();
+    let grid = Grid::new(h, 8).unwrap();
+    let err = discretize(&open, grid, 0, DiscretizeOptions::default());
+    assert!(
+        matches!(err, Err(DiscretizeError::NotClosed { .. })),
+        "{err:?}"
+    );
 }
 
 #[test]
