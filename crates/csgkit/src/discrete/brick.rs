@@ -117,6 +117,27 @@ impl Brick {
         out
     }
 
+    /// All 64 sub-columns (`x + 8·y`), decoded in one pass over the events.
+    pub fn columns(&self) -> Vec<Column> {
+        let mut out = vec![Column::new(); 64];
+        let mut start = [0i32; 64];
+        let mut state = 0u64;
+        for &(z, mask) in &self.events {
+            let mut bits = mask;
+            while bits != 0 {
+                let c = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if state >> c & 1 == 1 {
+                    out[c].push_merge(start[c], z);
+                } else {
+                    start[c] = z;
+                }
+            }
+            state ^= mask;
+        }
+        out
+    }
+
     /// The common column when every sub-column is the same, else `None`.
     pub fn as_uniform(&self) -> Option<Column> {
         let mut state = 0u64;
@@ -235,6 +256,9 @@ mod tests {
         assert_eq!(brick.column(0), a);
         assert_eq!(brick.column(9), b);
         assert_eq!(brick.column(1), empty);
+        let all = brick.columns();
+        assert_eq!(all.len(), 64);
+        assert!((0..64).all(|c| all[c as usize] == brick.column(c)));
         assert_eq!(brick.voxel_count(), 4 + 3 + 4);
         assert!(brick.contains(9, 4) && !brick.contains(9, 5) && brick.contains(63, 5));
         // a at z=3 ends and b at z=2 starts, so depths 0, 2, 3, 5, 6 carry events.

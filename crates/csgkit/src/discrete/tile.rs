@@ -190,11 +190,9 @@ impl Tile {
                 }
             }
             Tile::Brick(b) => {
-                for c in 0..64u32 {
-                    let column = b.column(c);
+                for (c, column) in (0i32..).zip(b.columns()) {
                     if !column.is_empty() {
-                        let (dx, dy) = (c as i32 % BRICK_SIDE, c as i32 / BRICK_SIDE);
-                        f(x + dx, y + dy, 1, &column);
+                        f(x + c % BRICK_SIDE, y + c / BRICK_SIDE, 1, &column);
                     }
                 }
             }
