@@ -21,6 +21,7 @@
 pub mod discrete;
 mod index;
 pub mod io;
+pub mod kernel;
 pub mod mesh;
 
 pub use index::{Aabb, Bvh};

@@ -44,7 +44,7 @@ pub enum ParseError {
     #[error("unknown format: the extension and the content match none of OBJ, STL, PLY, OFF")]
     UnknownFormat,
     /// A vertex coordinate is NaN or infinite.
-    #[error("vertex {vertex} has a non-finite coordinate {value} at {at}")]
+    #[error("{at}: vertex {vertex} has a non-finite coordinate {value}")]
     NonFinite {
         /// The vertex in file order (for STL: 3 per facet, before welding).
         vertex: usize,
@@ -54,13 +54,13 @@ pub enum ParseError {
         at: Location,
     },
     /// A face refers to a vertex, texture coordinate or normal that does not exist.
-    #[error("face {face} refers to {what} {index}, but the file has {count} at {at}")]
+    #[error("{at}: face {face} refers to {what} {index}, but {count} are defined")]
     IndexOutOfRange {
         /// The face in file order.
         face: usize,
         /// "vertex", "texture coordinate" or "normal".
         what: &'static str,
-        /// The index as written in the file.
+        /// The index as written in the file (1-based or negative in OBJ, 0-based elsewhere).
         index: i64,
         /// How many the file defines at that point.
         count: usize,
@@ -68,7 +68,7 @@ pub enum ParseError {
         at: Location,
     },
     /// A face has fewer than three corners.
-    #[error("face {face} has {corners} corners; a face needs at least 3 at {at}")]
+    #[error("{at}: face {face} has {corners} corners; a face needs at least 3")]
     TooFewCorners {
         /// The face in file order.
         face: usize,
@@ -88,7 +88,7 @@ pub enum ParseError {
         actual: usize,
     },
     /// A token that should be a number is not one.
-    #[error("malformed number {token:?} at {at}")]
+    #[error("{at}: malformed number {token:?}")]
     MalformedNumber {
         /// The token (cut to 40 bytes).
         token: String,
@@ -96,7 +96,7 @@ pub enum ParseError {
         at: Location,
     },
     /// The file breaks the format's grammar.
-    #[error("malformed {format} file at {at}: {reason}")]
+    #[error("{at}: malformed {format} file: {reason}")]
     Malformed {
         /// The format the file was read as.
         format: Format,
@@ -106,7 +106,7 @@ pub enum ParseError {
         at: Location,
     },
     /// The file uses a feature of the format that csgkit does not read.
-    #[error("unsupported {format} feature at {at}: {feature}")]
+    #[error("{at}: unsupported {format} feature: {feature}")]
     Unsupported {
         /// The format the file was read as.
         format: Format,

@@ -5,6 +5,18 @@
 //! temporary file in the destination folder that is renamed over the destination when
 //! complete, so an output file is written whole or not at all.
 //!
+//! ```
+//! use csgkit::{Encoding, Format, Mesh, read_mesh_from_bytes, write_mesh_to_bytes};
+//!
+//! let positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.1, 0.0]];
+//! let triangle = Mesh::from_triangles(positions, &[[0, 1, 2]])?;
+//! let bytes = write_mesh_to_bytes(&triangle, Format::Obj, Encoding::Ascii)?;
+//! let loaded = read_mesh_from_bytes(&bytes, None)?; // recognised by its content
+//! assert_eq!(loaded.format, Format::Obj);
+//! assert_eq!(loaded.mesh.positions(), triangle.positions()); // bit-identical
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! # Format detection
 //! The extension chooses the format, but content that unambiguously says otherwise wins, in
 //! this order: a `ply` magic line, an `OFF` header, a binary STL whose size is exactly
@@ -302,6 +314,13 @@ mod tests {
         let path = dir.path().join("e.obj");
         std::fs::write(&path, b"").unwrap();
         assert!(read_mesh(&path).unwrap().mesh.is_empty());
+        let path = dir.path().join("bad.obj");
+        std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").unwrap();
+        let message = "line 4: face 0 refers to vertex 4, but 3 are defined";
+        assert_eq!(
+            read_mesh(&path).unwrap_err().to_string(),
+            format!("{}: {message}", path.display())
+        );
         let missing = read_mesh(dir.path().join("missing.obj")).unwrap_err();
         assert!(matches!(missing, ReadError::Io { .. }));
     }

@@ -13,11 +13,16 @@
 //!
 //! The writer prints coordinates in shortest round-trip form (`ryu`), so reading back gives
 //! bit-identical positions, and groups faces by material under `usemtl` (a stable sort, so a
-//! file already grouped keeps its face order).
+//! file already grouped keeps its face order). It writes one `vt`/`vn` per corner, vertex
+//! colours as `r g b` floats (alpha is dropped), `g` lines where the group changes, and no
+//! face colours or provenance, which OBJ cannot hold. Name tables are rebuilt in order of first
+//! use on reading, so their order may change in a round trip.
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};
-use super::text::{Lines, Tokens, channel, check_finite, next_f64, parse_f32, parse_i64};
+use super::text::{
+    Lines, Tokens, channel, check_finite, next_f64, parse_f32, parse_f64, parse_i64,
+};
 use super::{Encoding, Format, LoadedMesh};
 use crate::mesh::{FaceId, Mesh, Rgba};
 
@@ -136,7 +141,7 @@ impl Reader {
         let mut extra = [0.0f64; 3];
         let mut count = 0;
         for token in tokens {
-            let value = super::text::parse_f64(token, at)?;
+            let value = parse_f64(token, at)?;
             if count < 3 {
                 extra[count] = value;
             }
@@ -157,18 +162,8 @@ impl Reader {
             let mut parts = token.split(|&b| b == b'/');
             let v = parts.next().unwrap_or_default();
             let vertex = resolve(v, self.builder.vertex_count(), "vertex", face, at)?;
-            let uv = match parts.next().filter(|t| !t.is_empty()) {
-                Some(t) => Some(
-                    self.uvs[resolve(t, self.uvs.len(), "texture coordinate", face, at)? as usize],
-                ),
-                None => None,
-            };
-            let normal = match parts.next().filter(|t| !t.is_empty()) {
-                Some(t) => {
-                    Some(self.normals[resolve(t, self.normals.len(), "normal", face, at)? as usize])
-                }
-                None => None,
-            };
+            let uv = lookup(parts.next(), &self.uvs, "texture coordinate", face, at)?;
+            let normal = lookup(parts.next(), &self.normals, "normal", face, at)?;
             self.builder.push_corner(vertex, uv, normal);
         }
         let corners = self.builder.open_corners();
@@ -205,6 +200,22 @@ fn name(rest: &[u8]) -> String {
         "default".to_owned()
     } else {
         String::from_utf8_lossy(rest).into_owned()
+    }
+}
+
+/// The value an optional `vt` or `vn` index of a corner refers to.
+fn lookup<T: Copy>(
+    token: Option<&[u8]>,
+    values: &[T],
+    what: &'static str,
+    face: usize,
+    at: Location,
+) -> Result<Option<T>, ParseError> {
+    match token.filter(|t| !t.is_empty()) {
+        Some(t) => Ok(Some(
+            values[resolve(t, values.len(), what, face, at)? as usize],
+        )),
+        None => Ok(None),
     }
 }
 
@@ -329,116 +340,4 @@ fn write_faces(mesh: &Mesh, out: &mut Vec<u8>) {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::mesh::MeshParts;
-
-    fn read_str(text: &str) -> Result<Mesh, ParseError> {
-        read(text.as_bytes()).map(|loaded| loaded.mesh)
-    }
-
-    #[test]
-    fn reads_every_index_form_and_negative_indices() {
-        let mesh = read_str(
-            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n\
-             f 1 2 3\nf 1/1 2/2 3/3\nf 1//1 2//1 3//1\nf -4/-3/-1 -3/-2/-1 -1/-1/-1 \\\n -2/1/1\n",
-        )
-        .unwrap();
-        assert_eq!(mesh.face_count(), 4);
-        assert_eq!(mesh.face(FaceId::new(3)), &[0, 1, 3, 2]);
-        let uvs = mesh.corner_uvs().unwrap();
-        assert_eq!(uvs[0], [0.0, 0.0]);
-        assert_eq!(uvs[4], [1.0, 0.0]);
-        assert_eq!(mesh.corner_normals().unwrap()[6], [0.0, 0.0, 1.0]);
-    }
-
-    #[test]
-    fn groups_materials_colours_and_crlf() {
-        let mesh = read_str(
-            "mtllib a.mtl b.mtl\r\nv 0 0 0 1 0 0\r\nv 1 0 0\r\nv 0 1 0 # c\r\no part\r\n\
-             usemtl red\r\nf 1 2 3\r\ns off\r\nl 1 2\r\ng other\r\nusemtl blue\r\nf 3 2 1\r\n",
-        )
-        .unwrap();
-        assert_eq!(mesh.material_libraries(), ["a.mtl", "b.mtl"]);
-        assert_eq!(mesh.materials(), ["red", "blue"]);
-        assert_eq!(mesh.face_materials(), Some(&[0, 1][..]));
-        assert_eq!(mesh.groups(), ["part", "other"]);
-        assert_eq!(mesh.vertex_colors().unwrap()[0], [255, 0, 0, 255]);
-        assert_eq!(mesh.vertex_colors().unwrap()[1], [255; 4]);
-    }
-
-    #[test]
-    fn round_trip_keeps_positions_faces_and_attributes() {
-        let parts = MeshParts {
-            positions: vec![
-                [0.1, -1e-300, 3.0e10],
-                [1.0 / 3.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [2.0; 3],
-            ],
-            corners: vec![0, 1, 2, 3, 0, 2, 1],
-            face_starts: Some(vec![0, 4, 7]),
-            face_materials: Some(vec![0, 1]),
-            materials: vec!["a".into(), "b".into()],
-            face_groups: Some(vec![0, 1]),
-            groups: vec!["g0".into(), "g1".into()],
-            corner_uvs: Some((0..7).map(|i| [i as f32 * 0.1, 0.5]).collect()),
-            corner_normals: Some(vec![[0.0, 0.0, 1.0]; 7]),
-            vertex_colors: Some(vec![[1, 2, 3, 255]; 4]),
-            material_libraries: vec!["m.mtl".into()],
-            ..MeshParts::default()
-        };
-        let mesh = Mesh::from_parts(parts).unwrap();
-        let mut out = Vec::new();
-        write(&mesh, &mut out);
-        assert_eq!(read(&out).unwrap().mesh, mesh);
-    }
-
-    #[test]
-    fn errors_name_the_line_face_and_vertex() {
-        assert!(matches!(
-            read_str("v 0 0 0\nv 1 nan 0\n"),
-            Err(ParseError::NonFinite { vertex: 1, at: Location::Line(2), value }) if value.is_nan()
-        ));
-        assert!(matches!(
-            read_str("v 0 0 0\nv inf 0 0\n"),
-            Err(ParseError::NonFinite {
-                vertex: 1,
-                at: Location::Line(2),
-                ..
-            })
-        ));
-        assert_eq!(
-            read_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n"),
-            Err(ParseError::IndexOutOfRange {
-                face: 1,
-                what: "vertex",
-                index: 4,
-                count: 3,
-                at: Location::Line(5)
-            })
-        );
-        assert_eq!(
-            read_str("v 0 0 0\nv 1 0 0\nf 1 2\n"),
-            Err(ParseError::TooFewCorners {
-                face: 0,
-                corners: 2,
-                at: Location::Line(3)
-            })
-        );
-        assert!(matches!(
-            read_str("v 0 0 0\nf 0 1 1\n"),
-            Err(ParseError::IndexOutOfRange { index: 0, .. })
-        ));
-        assert!(matches!(
-            read_str("v 0 x 0\n"),
-            Err(ParseError::MalformedNumber { .. })
-        ));
-    }
-
-    #[test]
-    fn empty_and_face_free_files_are_empty_meshes() {
-        assert!(read_str("").unwrap().is_empty());
-        assert_eq!(read_str("# nothing\nv 1 2 3\n").unwrap().vertex_count(), 1);
-    }
-}
+mod tests;

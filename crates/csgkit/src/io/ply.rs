@@ -15,103 +15,21 @@
 //! properties, an allocation per vertex and face, and has no error locations.
 //!
 //! The writer emits binary little-endian by default (ASCII on request), `double` coordinates,
-//! `uchar` colours, and a `list uchar int vertex_indices` (`uint` counts past 255 corners).
+//! `uchar` colours, a `list uchar int vertex_indices` (`uint` counts past 255 corners) and an
+//! `int material_index`. PLY has no material names: a round trip renames them `material_N`.
+//! Groups, UVs, normals and provenance are not written.
+
+mod header;
+mod write;
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};
-use super::text::{Lines, Tokens, channel, check_finite, parse_f64, parse_i64};
+use super::text::{Lines, Tokens, channel, check_finite, parse_f64};
 use super::{Encoding, Format, LoadedMesh};
 use crate::mesh::Mesh;
 
-/// A PLY scalar type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Scalar {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    F32,
-    F64,
-}
-
-impl Scalar {
-    fn parse(name: &[u8]) -> Option<Scalar> {
-        Some(match name {
-            b"char" | b"int8" => Scalar::I8,
-            b"uchar" | b"uint8" => Scalar::U8,
-            b"short" | b"int16" => Scalar::I16,
-            b"ushort" | b"uint16" => Scalar::U16,
-            b"int" | b"int32" => Scalar::I32,
-            b"uint" | b"uint32" => Scalar::U32,
-            b"float" | b"float32" => Scalar::F32,
-            b"double" | b"float64" => Scalar::F64,
-            _ => return None,
-        })
-    }
-
-    fn size(self) -> usize {
-        match self {
-            Scalar::I8 | Scalar::U8 => 1,
-            Scalar::I16 | Scalar::U16 => 2,
-            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
-            Scalar::F64 => 8,
-        }
-    }
-
-    fn is_float(self) -> bool {
-        matches!(self, Scalar::F32 | Scalar::F64)
-    }
-}
-
-/// A property: a scalar, or a list with a count type and an item type.
-#[derive(Clone, Debug)]
-struct Property {
-    name: String,
-    /// `Some(count type)` for a list.
-    list: Option<Scalar>,
-    item: Scalar,
-}
-
-#[derive(Clone, Debug)]
-struct Element {
-    name: String,
-    count: usize,
-    properties: Vec<Property>,
-    line: usize,
-}
-
-impl Element {
-    /// The fewest bytes one instance can take: in binary its scalars and list counts; in ASCII
-    /// one digit and a separator per property.
-    fn min_size(&self, binary: bool) -> usize {
-        let sizes = self
-            .properties
-            .iter()
-            .map(|p| p.list.unwrap_or(p.item).size());
-        if binary {
-            sizes.sum()
-        } else {
-            2 * self.properties.len()
-        }
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Body {
-    Ascii,
-    Little,
-    Big,
-}
-
-struct Header {
-    body: Body,
-    elements: Vec<Element>,
-    /// Byte offset and number of the header's last line.
-    body_start: usize,
-    lines: usize,
-}
+use header::{Body, Element, Header, Property, Scalar, read_header};
+pub(crate) use write::write;
 
 /// Reads a PLY file held in memory.
 pub(crate) fn read(data: &[u8]) -> Result<LoadedMesh, ParseError> {
@@ -173,115 +91,6 @@ pub(crate) fn read(data: &[u8]) -> Result<LoadedMesh, ParseError> {
         format: Format::Ply,
         encoding,
         raw_vertex_count,
-    })
-}
-
-fn read_header(data: &[u8]) -> Result<Header, ParseError> {
-    let mut lines = Lines::new(data);
-    let first = lines.next().map(|(_, line)| line);
-    if first != Some(b"ply") {
-        return Err(malformed(
-            Format::Ply,
-            Location::Line(1),
-            "the first line must be \"ply\"",
-        ));
-    }
-    let mut body = None;
-    let mut elements: Vec<Element> = Vec::new();
-    while let Some((number, line)) = lines.next() {
-        let at = Location::Line(number);
-        let mut tokens = Tokens::new(line);
-        match tokens.next() {
-            Some(b"format") => body = Some(body_format(tokens, at)?),
-            Some(b"element") => elements.push(element(tokens, at, number)?),
-            Some(b"property") => {
-                let element = elements
-                    .last_mut()
-                    .ok_or_else(|| malformed(Format::Ply, at, "property before any element"))?;
-                element.properties.push(property(tokens, at)?);
-            }
-            Some(b"end_header") => {
-                let body = body.ok_or_else(|| malformed(Format::Ply, at, "no format line"))?;
-                let body_start = data.len() - lines.rest().len();
-                return Ok(Header {
-                    body,
-                    elements,
-                    body_start,
-                    lines: number,
-                });
-            }
-            None | Some(b"comment" | b"obj_info") => {}
-            Some(_) => return Err(malformed(Format::Ply, at, "unknown header line")),
-        }
-    }
-    let at = Location::Line(data.split(|&b| b == b'\n').count());
-    Err(malformed(Format::Ply, at, "the header has no end_header"))
-}
-
-fn body_format(mut tokens: Tokens<'_>, at: Location) -> Result<Body, ParseError> {
-    match tokens.next() {
-        Some(b"ascii") => Ok(Body::Ascii),
-        Some(b"binary_little_endian") => Ok(Body::Little),
-        Some(b"binary_big_endian") => Ok(Body::Big),
-        other => {
-            let feature = format!(
-                "format {}",
-                String::from_utf8_lossy(other.unwrap_or_default())
-            );
-            Err(ParseError::Unsupported {
-                format: Format::Ply,
-                feature,
-                at,
-            })
-        }
-    }
-}
-
-fn element(mut tokens: Tokens<'_>, at: Location, line: usize) -> Result<Element, ParseError> {
-    let (Some(name), Some(count)) = (tokens.next(), tokens.next()) else {
-        return Err(malformed(
-            Format::Ply,
-            at,
-            "element needs a name and a count",
-        ));
-    };
-    let count = parse_i64(count, at)?;
-    let count =
-        usize::try_from(count).map_err(|_| malformed(Format::Ply, at, "negative element count"))?;
-    let name = String::from_utf8_lossy(name).into_owned();
-    Ok(Element {
-        name,
-        count,
-        properties: Vec::new(),
-        line,
-    })
-}
-
-fn property(mut tokens: Tokens<'_>, at: Location) -> Result<Property, ParseError> {
-    let scalar = |token: Option<&[u8]>| {
-        let token = token.unwrap_or_default();
-        Scalar::parse(token).ok_or_else(|| {
-            let feature = format!("property type {:?}", String::from_utf8_lossy(token));
-            ParseError::Unsupported {
-                format: Format::Ply,
-                feature,
-                at,
-            }
-        })
-    };
-    let first = tokens.next();
-    let (list, item) = if first == Some(b"list") {
-        (Some(scalar(tokens.next())?), scalar(tokens.next())?)
-    } else {
-        (None, scalar(first)?)
-    };
-    let name = tokens
-        .next()
-        .ok_or_else(|| malformed(Format::Ply, at, "property needs a name"))?;
-    Ok(Property {
-        name: String::from_utf8_lossy(name).into_owned(),
-        list,
-        item,
     })
 }
 
@@ -515,6 +324,7 @@ enum Role {
     Skip,
 }
 
+/// PLY's colour property names.
 const CHANNELS: [&str; 4] = ["red", "green", "blue", "alpha"];
 
 fn vertex_role(property: &Property) -> Role {
@@ -656,118 +466,6 @@ fn set_materials(builder: &mut MeshBuilder, numbers: &[f64]) {
         .collect();
     let names = distinct.iter().map(|n| format!("material_{n}")).collect();
     builder.set_materials(ids, names);
-}
-
-/// Appends `mesh` as PLY (binary little-endian or ASCII) to `out`.
-pub(crate) fn write(mesh: &Mesh, encoding: Encoding, out: &mut Vec<u8>) {
-    let ascii = encoding == Encoding::Ascii;
-    let wide = mesh.faces().any(|f| f.len() > 255);
-    write_header(mesh, ascii, wide, out);
-    let mut w = Writer {
-        out,
-        ascii,
-        f: ryu::Buffer::new(),
-        int: itoa::Buffer::new(),
-    };
-    let colors = mesh.vertex_colors();
-    for (v, p) in mesh.positions().iter().enumerate() {
-        for (k, &c) in p.iter().enumerate() {
-            w.double(c, k == 0);
-        }
-        for &c in colors.map(|c| &c[v][..]).unwrap_or_default() {
-            w.uint(u32::from(c), 1, false);
-        }
-        w.end();
-    }
-    for (face, corners) in mesh.faces().enumerate() {
-        w.uint(corners.len() as u32, if wide { 4 } else { 1 }, true);
-        for &v in corners {
-            w.uint(v, 4, false);
-        }
-        if let Some(materials) = mesh.face_materials() {
-            w.uint(materials[face], 4, false);
-        }
-        for &c in mesh.face_colors().map(|c| &c[face][..]).unwrap_or_default() {
-            w.uint(u32::from(c), 1, false);
-        }
-        w.end();
-    }
-}
-
-fn write_header(mesh: &Mesh, ascii: bool, wide: bool, out: &mut Vec<u8>) {
-    let mut h = String::from("ply\n");
-    h += if ascii {
-        "format ascii 1.0\n"
-    } else {
-        "format binary_little_endian 1.0\n"
-    };
-    h += "comment written by csgkit\n";
-    h += &format!("element vertex {}\n", mesh.vertex_count());
-    h += "property double x\nproperty double y\nproperty double z\n";
-    let channels = |h: &mut String| {
-        CHANNELS
-            .iter()
-            .for_each(|c| *h += &format!("property uchar {c}\n"))
-    };
-    if mesh.vertex_colors().is_some() {
-        channels(&mut h);
-    }
-    h += &format!("element face {}\n", mesh.face_count());
-    h += if wide {
-        "property list uint int vertex_indices\n"
-    } else {
-        "property list uchar int vertex_indices\n"
-    };
-    if mesh.face_materials().is_some() {
-        h += "property int material_index\n";
-    }
-    if mesh.face_colors().is_some() {
-        channels(&mut h);
-    }
-    h += "end_header\n";
-    out.extend_from_slice(h.as_bytes());
-}
-
-/// Writes values as little-endian binary or as space-separated ASCII lines.
-struct Writer<'a> {
-    out: &'a mut Vec<u8>,
-    ascii: bool,
-    f: ryu::Buffer,
-    int: itoa::Buffer,
-}
-
-impl Writer<'_> {
-    fn separate(&mut self, first: bool) {
-        if self.ascii && !first {
-            self.out.push(b' ');
-        }
-    }
-
-    fn double(&mut self, value: f64, first: bool) {
-        self.separate(first);
-        if self.ascii {
-            self.out.extend_from_slice(self.f.format(value).as_bytes());
-        } else {
-            self.out.extend_from_slice(&value.to_le_bytes());
-        }
-    }
-
-    /// Writes `value` as a `width`-byte integer (1 or 4) in binary.
-    fn uint(&mut self, value: u32, width: usize, first: bool) {
-        self.separate(first);
-        if self.ascii {
-            self.out
-                .extend_from_slice(self.int.format(value).as_bytes());
-        } else {
-            self.out.extend_from_slice(&value.to_le_bytes()[..width]);
-        }
-    }
-
-    fn end(&mut self) {
-        if self.ascii {
-            self.out.push(b'\n');
-        }
-    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,165 @@
+//! The three number types of the predicate cascade behind one trait, so that each polynomial
+//! is written once: [`Interval`] (filter), [`Expansion`] (exact while no product underflows or
+//! overflows) and [`Big`] (exact big integers, for every finite input).
+
+use num_bigint::BigInt;
+
+use super::Sign;
+use super::expansion::Expansion;
+use super::interval::Interval;
+
+/// Ring operations plus a possibly-undecided sign.
+pub(crate) trait Arith: Clone {
+    fn add(&self, o: &Self) -> Self;
+    fn sub(&self, o: &Self) -> Self;
+    fn mul(&self, o: &Self) -> Self;
+    /// The sign of the exact value, or `None` when this number type cannot tell.
+    fn sign(&self) -> Option<Sign>;
+}
+
+impl Arith for Interval {
+    #[inline]
+    fn add(&self, o: &Self) -> Self {
+        Interval::add(self, o)
+    }
+    #[inline]
+    fn sub(&self, o: &Self) -> Self {
+        Interval::sub(self, o)
+    }
+    #[inline]
+    fn mul(&self, o: &Self) -> Self {
+        Interval::mul(self, o)
+    }
+    #[inline]
+    fn sign(&self) -> Option<Sign> {
+        Interval::sign(self)
+    }
+}
+
+impl Arith for Expansion {
+    fn add(&self, o: &Self) -> Self {
+        Expansion::add(self, o)
+    }
+    fn sub(&self, o: &Self) -> Self {
+        Expansion::sub(self, o)
+    }
+    fn mul(&self, o: &Self) -> Self {
+        Expansion::mul(self, o)
+    }
+    fn sign(&self) -> Option<Sign> {
+        Expansion::sign(self)
+    }
+}
+
+/// An exact integer: an input f64 times `2^-e_min`, where `e_min` is the exponent of the lowest
+/// significant bit over all inputs of one predicate call. The predicates are homogeneous
+/// polynomials, so the common positive scale does not change any sign.
+#[derive(Clone, Debug)]
+pub(crate) struct Big(BigInt);
+
+impl Arith for Big {
+    fn add(&self, o: &Self) -> Self {
+        Big(&self.0 + &o.0)
+    }
+    fn sub(&self, o: &Self) -> Self {
+        Big(&self.0 - &o.0)
+    }
+    fn mul(&self, o: &Self) -> Self {
+        Big(&self.0 * &o.0)
+    }
+    fn sign(&self) -> Option<Sign> {
+        Some(match self.0.sign() {
+            num_bigint::Sign::Minus => Sign::Negative,
+            num_bigint::Sign::NoSign => Sign::Zero,
+            num_bigint::Sign::Plus => Sign::Positive,
+        })
+    }
+}
+
+/// `x = m * 2^e` exactly, with `m` odd (or zero). `x` must be finite.
+pub(crate) fn decompose(x: f64) -> (i64, i32) {
+    let bits = x.to_bits();
+    let exp_field = ((bits >> 52) & 0x7ff) as i32;
+    let frac = (bits & ((1u64 << 52) - 1)) as i64;
+    let (mut m, mut e) = if exp_field == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1i64 << 52), exp_field - 1075)
+    };
+    if m == 0 {
+        return (0, 0);
+    }
+    let tz = m.trailing_zeros();
+    m >>= tz;
+    e += tz as i32;
+    if x < 0.0 { (-m, e) } else { (m, e) }
+}
+
+impl Big {
+    /// The constant 1 (the `W` of an explicit point; not scaled).
+    pub(crate) fn one() -> Self {
+        Big(BigInt::from(1))
+    }
+
+    /// `x * 2^-e_min` as an integer; `e_min` must not exceed the exponent of `x`'s lowest bit.
+    pub(crate) fn scaled(x: f64, e_min: i32) -> Self {
+        let (m, e) = decompose(x);
+        if m == 0 {
+            return Big(BigInt::from(0));
+        }
+        Big(BigInt::from(m) << ((e - e_min) as u32))
+    }
+}
+
+/// The exponent `k` with `2^k <= |x| < 2^(k+1)` for finite nonzero `x`.
+pub(crate) fn exponent(x: f64) -> i32 {
+    let (m, e) = decompose(x);
+    e + (63 - m.unsigned_abs().leading_zeros() as i32)
+}
+
+/// `x * 2^s` as an expansion, poisoned if the scaling is not exact.
+pub(crate) fn scaled_expansion(x: f64, s: i32) -> Expansion {
+    // Two steps keep each factor a normal power of two for any |s| <= 2100.
+    let half = s / 2;
+    let y = x * pow2(half) * pow2(s - half);
+    if y.is_finite() && y * pow2(-half) * pow2(half - s) == x {
+        Expansion::exact(y)
+    } else {
+        Expansion::poisoned()
+    }
+}
+
+/// `2^k` for `-1022 <= k <= 1023`.
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k), "pow2 stays normal");
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decompose_is_exact_and_minimal() {
+        assert_eq!(decompose(1.0), (1, 0));
+        assert_eq!(decompose(-6.0), (-3, 1));
+        assert_eq!(decompose(0.375), (3, -3));
+        assert_eq!(decompose(f64::from_bits(1)), (1, -1074));
+        assert_eq!(decompose(0.0), (0, 0));
+        assert_eq!(exponent(1.0), 0);
+        assert_eq!(exponent(3.9), 1);
+        assert_eq!(exponent(f64::MAX), 1023);
+        assert_eq!(exponent(f64::from_bits(1)), -1074);
+    }
+
+    #[test]
+    fn scaling_is_exact_or_poisoned() {
+        assert_eq!(scaled_expansion(3.0, -1000).sign(), Some(Sign::Positive));
+        assert_eq!(scaled_expansion(3.0, -1080).sign(), None);
+        assert_eq!(scaled_expansion(f64::MAX, 1).sign(), None);
+        assert_eq!(
+            scaled_expansion(f64::MAX, -2000).sign(),
+            Some(Sign::Positive)
+        );
+    }
+}

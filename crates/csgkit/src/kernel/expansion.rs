@@ -1,0 +1,243 @@
+//! Floating-point expansions (Shewchuk 1997, "Adaptive Precision Floating-Point Arithmetic and
+//! Fast Robust Geometric Predicates", §2): the exact middle stage of the implicit predicates.
+//!
+//! An expansion is a sum of f64 components, nonoverlapping and sorted by increasing magnitude,
+//! whose exact sum is the value; its sign is the sign of the largest component. Sums and
+//! products of expansions are exact as long as no component overflows and no product
+//! underflows.
+//!
+//! # Why hand-written
+//! The `robust` crate implements the same primitives but keeps them private, and they do not
+//! report underflow. Here every product checks the condition under which Dekker's
+//! `two_product` is exact (below) and clears [`Expansion::ok`] when it may not be; the caller
+//! then falls back to big integers. Overflow shows up as a non-finite component, which
+//! [`Expansion::sign`] also reports as "undecided".
+//!
+//! # Exactness condition of `two_product(a, b)`
+//! With `|a|, |b| < 2^995` the Veltkamp split (`a * (2^27 + 1)`) cannot overflow. With
+//! `|fl(a*b)| >= 2^-900` every partial product of the split halves is a multiple of
+//! `ulp(a) * ulp(b) >= |a*b| * 2^-106 > 2^-1022`, so none underflows and Dekker's error term
+//! is exact. Components are allowed to be anything finite; only products are checked.
+//!
+//! # Cost
+//! Allocates (one `Vec` per intermediate); runs only when the interval filter cannot decide.
+
+use super::Sign;
+
+/// `2^27 + 1`, Veltkamp's splitter for 53-bit significands.
+const SPLITTER: f64 = 134_217_729.0;
+/// Factors at or above this magnitude could overflow in the split: `2^995`.
+const SPLIT_LIMIT: f64 = f64::from_bits((1023 + 995) << 52);
+/// Products below this magnitude could lose bits of the error term to underflow: `2^-900`.
+const PRODUCT_FLOOR: f64 = f64::from_bits((1023 - 900) << 52);
+
+/// An exact sum of f64 components (increasing magnitude, nonoverlapping, no zeros).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Expansion {
+    c: Vec<f64>,
+    /// False once a product may have lost bits to underflow or overflow: the value is then
+    /// unreliable and the caller must use another exact method.
+    ok: bool,
+}
+
+#[inline]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let x = a + b;
+    let bv = x - a;
+    let av = x - bv;
+    let br = b - bv;
+    let ar = a - av;
+    (x, ar + br)
+}
+
+#[inline]
+fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
+    let x = a + b;
+    let bv = x - a;
+    (x, b - bv)
+}
+
+#[inline]
+fn split(a: f64) -> (f64, f64) {
+    let c = SPLITTER * a;
+    let abig = c - a;
+    let hi = c - abig;
+    (hi, a - hi)
+}
+
+/// `a * b = x + y` exactly, when `safe` comes back true.
+#[inline]
+fn two_product(a: f64, b: f64, safe: &mut bool) -> (f64, f64) {
+    let x = a * b;
+    if x == 0.0 {
+        // Exact only if a factor is zero; otherwise the product underflowed.
+        *safe &= a == 0.0 || b == 0.0;
+        return (x, 0.0);
+    }
+    *safe &= x.abs() >= PRODUCT_FLOOR && a.abs() < SPLIT_LIMIT && b.abs() < SPLIT_LIMIT;
+    let (ahi, alo) = split(a);
+    let (bhi, blo) = split(b);
+    let err1 = x - ahi * bhi;
+    let err2 = err1 - alo * bhi;
+    let err3 = err2 - ahi * blo;
+    (x, alo * blo - err3)
+}
+
+impl Expansion {
+    /// The expansion of one f64.
+    pub(crate) fn exact(x: f64) -> Self {
+        Expansion {
+            c: if x == 0.0 { Vec::new() } else { vec![x] },
+            ok: x.is_finite(),
+        }
+    }
+
+    /// An expansion already known to be unreliable (a lossy input conversion).
+    pub(crate) fn poisoned() -> Self {
+        Expansion {
+            c: Vec::new(),
+            ok: false,
+        }
+    }
+
+    /// The sign of the exact value, or `None` if underflow or overflow may have spoiled it.
+    pub(crate) fn sign(&self) -> Option<Sign> {
+        if !self.ok || !self.c.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        Some(match self.c.last() {
+            None => Sign::Zero,
+            Some(&x) => Sign::of(x),
+        })
+    }
+
+    fn neg(&self) -> Self {
+        Expansion {
+            c: self.c.iter().map(|x| -x).collect(),
+            ok: self.ok,
+        }
+    }
+
+    pub(crate) fn add(&self, o: &Self) -> Self {
+        Expansion {
+            c: sum_zeroelim(&self.c, &o.c),
+            ok: self.ok && o.ok,
+        }
+    }
+
+    pub(crate) fn sub(&self, o: &Self) -> Self {
+        self.add(&o.neg())
+    }
+
+    pub(crate) fn mul(&self, o: &Self) -> Self {
+        let mut ok = self.ok && o.ok;
+        let (short, long) = if self.c.len() <= o.c.len() {
+            (&self.c, &o.c)
+        } else {
+            (&o.c, &self.c)
+        };
+        let mut acc: Vec<f64> = Vec::new();
+        for &b in short {
+            let part = scale_zeroelim(long, b, &mut ok);
+            acc = sum_zeroelim(&acc, &part);
+        }
+        Expansion { c: acc, ok }
+    }
+}
+
+/// Shewchuk's `fast_expansion_sum_zeroelim`, with `two_sum` in place of the one `fast_two_sum`
+/// whose precondition needs round-to-even reasoning (same result, one less assumption).
+fn sum_zeroelim(e: &[f64], f: &[f64]) -> Vec<f64> {
+    if e.is_empty() {
+        return f.to_vec();
+    }
+    if f.is_empty() {
+        return e.to_vec();
+    }
+    let mut h = Vec::with_capacity(e.len() + f.len());
+    let (mut ei, mut fi) = (0, 0);
+    // Merge by magnitude: take the smaller of the two current components.
+    let next = |ei: &mut usize, fi: &mut usize| -> f64 {
+        let take_e = *fi >= f.len() || (*ei < e.len() && e[*ei].abs() < f[*fi].abs());
+        if take_e {
+            *ei += 1;
+            e[*ei - 1]
+        } else {
+            *fi += 1;
+            f[*fi - 1]
+        }
+    };
+    let mut q = next(&mut ei, &mut fi);
+    while ei < e.len() || fi < f.len() {
+        let now = next(&mut ei, &mut fi);
+        let (qn, hh) = two_sum(q, now);
+        q = qn;
+        if hh != 0.0 {
+            h.push(hh);
+        }
+    }
+    if q != 0.0 {
+        h.push(q);
+    }
+    h
+}
+
+/// Shewchuk's `scale_expansion_zeroelim`: `e * b`, clearing `ok` if a product is not exact.
+fn scale_zeroelim(e: &[f64], b: f64, ok: &mut bool) -> Vec<f64> {
+    let mut h = Vec::with_capacity(2 * e.len());
+    let (mut q, hh) = two_product(e[0], b, ok);
+    if hh != 0.0 {
+        h.push(hh);
+    }
+    for &en in &e[1..] {
+        let (p1, p0) = two_product(en, b, ok);
+        let (sum, hh) = two_sum(q, p0);
+        if hh != 0.0 {
+            h.push(hh);
+        }
+        let (qn, hh) = fast_two_sum(p1, sum);
+        q = qn;
+        if hh != 0.0 {
+            h.push(hh);
+        }
+    }
+    if q != 0.0 {
+        h.push(q);
+    }
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constants_are_the_stated_powers_of_two() {
+        assert_eq!(SPLIT_LIMIT, 2f64.powi(995));
+        assert_eq!(PRODUCT_FLOOR, 2f64.powi(-900));
+    }
+
+    #[test]
+    fn cancellation_is_exact() {
+        // (1 + 2^-60)^2 - 1 - 2^-59 = 2^-120.
+        let a = Expansion::exact(1.0).add(&Expansion::exact(2f64.powi(-60)));
+        let sq = a.mul(&a);
+        let r = sq
+            .sub(&Expansion::exact(1.0))
+            .sub(&Expansion::exact(2f64.powi(-59)));
+        assert_eq!(r.sign(), Some(Sign::Positive));
+        assert_eq!(r.c, vec![2f64.powi(-120)]);
+        let z = r.sub(&Expansion::exact(2f64.powi(-120)));
+        assert_eq!(z.sign(), Some(Sign::Zero));
+    }
+
+    #[test]
+    fn underflow_and_overflow_are_reported() {
+        let t = Expansion::exact(1e-200);
+        assert_eq!(t.mul(&t).sign(), None);
+        let h = Expansion::exact(1e300);
+        assert_eq!(h.mul(&h).sign(), None);
+        let z = Expansion::exact(0.0);
+        assert_eq!(z.mul(&h).sign(), Some(Sign::Zero));
+    }
+}

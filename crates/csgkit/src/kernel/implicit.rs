@@ -1,0 +1,336 @@
+//! Implicit points: intersection points stored by what defines them (Attene 2020, "Indirect
+//! predicates for geometric constructions"; Cherchi et al. 2020, "Fast and robust mesh
+//! arrangements using floating-point arithmetic").
+//!
+//! A point's homogeneous coordinates `(X, Y, Z, W)` are polynomials in its defining f64
+//! coordinates (table in the [module docs](super)). They are evaluated in whichever number
+//! type the predicate cascade asks for (`hom`), and once, at construction, as intervals that
+//! the filter reuses (`filter_hom`). The sign of `W` is computed exactly at construction; a
+//! point whose `W` is exactly zero does not exist and is refused.
+
+use super::arith::Arith;
+use super::interval::Interval;
+use super::predicates::{Formula, decide};
+use super::{Axis, Sign};
+
+/// A point given by three f64 coordinates.
+pub type Point3 = [f64; 3];
+
+/// A point of the exact pipeline: an input vertex or an intersection point.
+///
+/// `Copy` and allocation-free; the largest variant ([`Tpi`]) is under 300 bytes.
+#[derive(Clone, Copy, Debug)]
+pub enum Point {
+    /// An input vertex.
+    Explicit(Point3),
+    /// A line–plane intersection.
+    Lpi(Lpi),
+    /// A three-plane intersection.
+    Tpi(Tpi),
+}
+
+/// Line–plane intersection: the line through `p, q` meets the plane through `r, s, t`.
+///
+/// With `n = (s - r) × (t - r)`: `W = n · (q - p)` and
+/// `(X, Y, Z) = p W + (q - p) (n · (r - p))`, so the point is `p + (q - p) λ` with
+/// `λ = n · (r - p) / n · (q - p)`. The point may lie outside the segment `p q` and outside
+/// the triangle `r s t`: the construction is about the line and the plane.
+#[derive(Clone, Copy, Debug)]
+pub struct Lpi {
+    /// `[p, q, r, s, t]`.
+    def: [Point3; 5],
+    filter: [Interval; 4],
+    w_sign: Sign,
+}
+
+/// Three-plane intersection: the common point of the planes of three triangles.
+///
+/// With normals `n_i = (b_i - a_i) × (c_i - a_i)` and offsets `d_i = n_i · a_i`:
+/// `W = n_1 · (n_2 × n_3)` and
+/// `(X, Y, Z) = d_1 (n_2 × n_3) + d_2 (n_3 × n_1) + d_3 (n_1 × n_2)` (Cramer's rule).
+#[derive(Clone, Copy, Debug)]
+pub struct Tpi {
+    planes: [[Point3; 3]; 3],
+    filter: [Interval; 4],
+    w_sign: Sign,
+}
+
+#[inline]
+fn sub3<T: Arith>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
+    [a[0].sub(&b[0]), a[1].sub(&b[1]), a[2].sub(&b[2])]
+}
+
+#[inline]
+fn cross<T: Arith>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
+    [
+        a[1].mul(&b[2]).sub(&a[2].mul(&b[1])),
+        a[2].mul(&b[0]).sub(&a[0].mul(&b[2])),
+        a[0].mul(&b[1]).sub(&a[1].mul(&b[0])),
+    ]
+}
+
+#[inline]
+fn dot<T: Arith>(a: &[T; 3], b: &[T; 3]) -> T {
+    a[0].mul(&b[0]).add(&a[1].mul(&b[1])).add(&a[2].mul(&b[2]))
+}
+
+#[inline]
+fn scale<T: Arith>(a: &[T; 3], k: &T) -> [T; 3] {
+    [a[0].mul(k), a[1].mul(k), a[2].mul(k)]
+}
+
+#[inline]
+fn add3<T: Arith>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
+    [a[0].add(&b[0]), a[1].add(&b[1]), a[2].add(&b[2])]
+}
+
+/// Normal `(b - a) × (c - a)` of a triangle.
+#[inline]
+pub(crate) fn normal<T: Arith>(a: &[T; 3], b: &[T; 3], c: &[T; 3]) -> [T; 3] {
+    cross(&sub3(b, a), &sub3(c, a))
+}
+
+#[inline]
+pub(crate) fn conv3<T>(p: &Point3, conv: &dyn Fn(f64) -> T) -> [T; 3] {
+    [conv(p[0]), conv(p[1]), conv(p[2])]
+}
+
+#[inline]
+fn lpi_hom<T: Arith>(d: &[Point3; 5], conv: &dyn Fn(f64) -> T) -> [T; 4] {
+    let [p, q, r, s, t] = d.map(|x| conv3(&x, conv));
+    let n = normal(&r, &s, &t);
+    let dir = sub3(&q, &p);
+    let w = dot(&n, &dir);
+    let num = dot(&n, &sub3(&r, &p));
+    let xyz = add3(&scale(&p, &w), &scale(&dir, &num));
+    let [x, y, z] = xyz;
+    [x, y, z, w]
+}
+
+#[inline]
+fn tpi_hom<T: Arith>(planes: &[[Point3; 3]; 3], conv: &dyn Fn(f64) -> T) -> [T; 4] {
+    let nd = planes.map(|pl| {
+        let [a, b, c] = pl.map(|x| conv3(&x, conv));
+        let ni = normal(&a, &b, &c);
+        let di = dot(&ni, &a);
+        (ni, di)
+    });
+    let [(n0, d0), (n1, d1), (n2, d2)] = nd;
+    let c23 = cross(&n1, &n2);
+    let c31 = cross(&n2, &n0);
+    let c12 = cross(&n0, &n1);
+    let w = dot(&n0, &c23);
+    let [x, y, z] = add3(
+        &add3(&scale(&c23, &d0), &scale(&c31, &d1)),
+        &scale(&c12, &d2),
+    );
+    [x, y, z, w]
+}
+
+/// The exact sign of a point's `W`, through the predicate cascade.
+struct WSign<'a>(&'a Point);
+
+impl Formula for WSign<'_> {
+    fn eval<T: Arith>(&self, hom: &dyn Fn(&Point) -> [T; 4], _conv: &dyn Fn(f64) -> T) -> T {
+        let [_, _, _, w] = hom(self.0);
+        w
+    }
+    fn points(&self) -> impl Iterator<Item = &Point> {
+        std::iter::once(self.0)
+    }
+    fn explicit_coords(&self) -> impl Iterator<Item = f64> {
+        std::iter::empty()
+    }
+    fn degree(&self) -> u32 {
+        self.0.w_degree()
+    }
+}
+
+fn all_finite(pts: &[Point3]) -> bool {
+    pts.iter().flatten().all(|x| x.is_finite())
+}
+
+impl Point {
+    /// The line through `p, q` meets the plane through `r, s, t` ([`Lpi`]).
+    ///
+    /// `None` when the line is parallel to the plane or the triangle `r, s, t` is degenerate
+    /// (`W` exactly zero), or when a coordinate is not finite. A segment whose endpoints are
+    /// on strictly opposite sides of the plane (by [`orient3d`](super::orient3d)) always gives
+    /// `Some`.
+    pub fn lpi(p: Point3, q: Point3, r: Point3, s: Point3, t: Point3) -> Option<Point> {
+        let def = [p, q, r, s, t];
+        if !all_finite(&def) {
+            return None;
+        }
+        let filter = lpi_hom(&def, &Interval::exact);
+        let pt = Point::Lpi(Lpi {
+            def,
+            filter,
+            w_sign: Sign::Zero,
+        });
+        let w_sign = decide(&WSign(&pt));
+        match (pt, w_sign) {
+            (_, Sign::Zero) => None,
+            (Point::Lpi(mut l), w) => {
+                l.w_sign = w;
+                Some(Point::Lpi(l))
+            }
+            _ => unreachable!("built as an Lpi above"),
+        }
+    }
+
+    /// The common point of the planes of three triangles ([`Tpi`]).
+    ///
+    /// `None` when the planes do not meet in exactly one point (`W = det(n1, n2, n3)` exactly
+    /// zero: two planes parallel, the three through one line, or a degenerate triangle), or
+    /// when a coordinate is not finite.
+    pub fn tpi(planes: [[Point3; 3]; 3]) -> Option<Point> {
+        if !all_finite(planes.as_flattened()) {
+            return None;
+        }
+        let filter = tpi_hom(&planes, &Interval::exact);
+        let pt = Point::Tpi(Tpi {
+            planes,
+            filter,
+            w_sign: Sign::Zero,
+        });
+        let w_sign = decide(&WSign(&pt));
+        match (pt, w_sign) {
+            (_, Sign::Zero) => None,
+            (Point::Tpi(mut t), w) => {
+                t.w_sign = w;
+                Some(Point::Tpi(t))
+            }
+            _ => unreachable!("built as a Tpi above"),
+        }
+    }
+
+    /// The crossing point of the lines of two coplanar edges `e` and `f`, both lying in the
+    /// plane of `tri` (the coplanar edge–edge case of triangle–triangle intersection).
+    ///
+    /// Built as a [`Tpi`] of the plane of `tri` and, for each edge, a plane through the edge
+    /// and the direction of axis `drop`: its third point is the edge's first endpoint with
+    /// coordinate `drop` halved (or set to 1 when zero), which is exact and always differs
+    /// from the endpoint. Use `drop = Axis::of_largest(normal of tri)`.
+    ///
+    /// `None` when the lines are parallel in the projection along `drop`, when the plane of
+    /// `tri` is parallel to axis `drop`, or when a triangle is degenerate. If the edges are
+    /// not in the plane of `tri`, the point is still well defined (the plane of `tri` meets
+    /// the two edge planes) but is not on the edges: that is the caller's precondition.
+    pub fn edge_crossing(
+        tri: [Point3; 3],
+        e: [Point3; 2],
+        f: [Point3; 2],
+        drop: Axis,
+    ) -> Option<Point> {
+        let k = drop.index();
+        let lift = |a: Point3| {
+            let mut c = a;
+            c[k] = if a[k] == 0.0 { 1.0 } else { a[k] * 0.5 };
+            c
+        };
+        Point::tpi([tri, [e[0], e[1], lift(e[0])], [f[0], f[1], lift(f[0])]])
+    }
+
+    /// True for an input vertex.
+    pub fn is_explicit(&self) -> bool {
+        matches!(self, Point::Explicit(_))
+    }
+
+    /// Coordinates rounded to f64 (from the midpoints of the cached filter intervals, so a
+    /// few ulps off, and possibly not finite on overflow). For output and display only: no
+    /// decision may be based on them.
+    pub fn approx(&self) -> Point3 {
+        match self {
+            Point::Explicit(p) => *p,
+            Point::Lpi(Lpi { filter, .. }) | Point::Tpi(Tpi { filter, .. }) => {
+                let mid = |i: &Interval| i.mid();
+                let w = mid(&filter[3]);
+                [
+                    mid(&filter[0]) / w,
+                    mid(&filter[1]) / w,
+                    mid(&filter[2]) / w,
+                ]
+            }
+        }
+    }
+
+    /// True when the point is defined as lying on the plane of a triangle whose vertices are
+    /// those of `tri` (in any order): the plane of an [`Lpi`], one of the planes of a [`Tpi`].
+    /// A cheap structural test; `false` says nothing.
+    pub(crate) fn defined_on_plane_of(&self, tri: &[Point3; 3]) -> bool {
+        let same = |u: &[Point3], v: &[Point3; 3]| v.iter().all(|x| u.contains(x));
+        match self {
+            Point::Explicit(_) => false,
+            Point::Lpi(l) => same(&l.def[2..], tri),
+            Point::Tpi(t) => t.planes.iter().any(|pl| same(pl, tri)),
+        }
+    }
+
+    /// Degree of `W` as a polynomial in the defining coordinates.
+    pub(crate) fn w_degree(&self) -> u32 {
+        match self {
+            Point::Explicit(_) => 0,
+            Point::Lpi(_) => 3,
+            Point::Tpi(_) => 6,
+        }
+    }
+
+    /// The exact sign of `W` (positive for explicit points).
+    pub(crate) fn w_sign(&self) -> Sign {
+        match self {
+            Point::Explicit(_) => Sign::Positive,
+            Point::Lpi(l) => l.w_sign,
+            Point::Tpi(t) => t.w_sign,
+        }
+    }
+
+    /// Homogeneous coordinates in number type `T`; `one` is the constant 1 of `T` (not
+    /// scaled by `conv`, so that the polynomials stay homogeneous).
+    pub(crate) fn hom<T: Arith>(&self, conv: &dyn Fn(f64) -> T, one: &T) -> [T; 4] {
+        match self {
+            Point::Explicit(p) => [conv(p[0]), conv(p[1]), conv(p[2]), one.clone()],
+            Point::Lpi(l) => lpi_hom(&l.def, conv),
+            Point::Tpi(t) => tpi_hom(&t.planes, conv),
+        }
+    }
+
+    /// Homogeneous coordinates as intervals, cached for implicit points.
+    #[inline]
+    pub(crate) fn filter_hom(&self) -> [Interval; 4] {
+        match self {
+            Point::Explicit(p) => [
+                Interval::exact(p[0]),
+                Interval::exact(p[1]),
+                Interval::exact(p[2]),
+                Interval::exact(1.0),
+            ],
+            Point::Lpi(l) => l.filter,
+            Point::Tpi(t) => t.filter,
+        }
+    }
+
+    /// Every defining f64 coordinate.
+    pub(crate) fn coords(&self) -> &[f64] {
+        match self {
+            Point::Explicit(p) => p,
+            Point::Lpi(l) => l.def.as_flattened(),
+            Point::Tpi(t) => t.planes.as_flattened().as_flattened(),
+        }
+    }
+}
+
+impl Lpi {
+    /// The segment endpoints `p, q` and the plane's triangle `r, s, t`.
+    pub fn definition(&self) -> (Point3, Point3, [Point3; 3]) {
+        let [p, q, r, s, t] = self.def;
+        (p, q, [r, s, t])
+    }
+}
+
+impl Tpi {
+    /// The three triangles whose planes meet at this point.
+    pub fn planes(&self) -> &[[Point3; 3]; 3] {
+        &self.planes
+    }
+}

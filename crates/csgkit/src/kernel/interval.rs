@@ -1,0 +1,164 @@
+//! Interval arithmetic with outward rounding: the floating-point filter of the implicit
+//! predicates.
+//!
+//! # Numeric model
+//! An [`Interval`] `[lo, hi]` encloses one real number. Every operation computes its endpoints
+//! in round-to-nearest f64 and then moves each endpoint one ulp outwards (`next_down` on `lo`,
+//! `next_up` on `hi`). Under IEEE 754 round-to-nearest the rounded result `r` of an exact value
+//! `x` satisfies `next_down(r) <= x <= next_up(r)`, also when `r` is subnormal or zero (gradual
+//! underflow keeps the error below one ulp of the subnormal spacing), so the enclosure is
+//! rigorous without changing the rounding mode (which stable Rust cannot do).
+//!
+//! Overflow fails safe: an overflowing endpoint becomes infinite, `next_down(+inf)` is
+//! `f64::MAX` and `next_up(-inf)` is `-f64::MAX`, so `lo` is never `+inf` and `hi` never
+//! `-inf`, and an addition never forms `inf - inf`. A product corner `0 * inf` is NaN; `f64::min`
+//! and `f64::max` skip it, which is sound because the other corner on the same zero endpoint
+//! is `0` (or, if both corners are NaN or infinite, the interval is unbounded or NaN). A NaN
+//! endpoint compares false, so [`Interval::sign`] answers "undecided" and the caller falls to
+//! the exact path.
+//!
+//! # Cost
+//! About four times the floating-point work of the plain expression, no allocation, no branch
+//! that depends on anything but signs. A static error bound per predicate (Attene's FPG-derived
+//! filters) would be several times faster; this is the simple, obviously-sound first version.
+
+use super::Sign;
+
+/// A closed interval `[lo, hi]` that contains the exact value of the expression it stands for.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Interval {
+    lo: f64,
+    hi: f64,
+}
+
+/// The next f64 above `x` (towards `+inf`); `+inf` and NaN map to themselves.
+#[inline(always)]
+pub(crate) fn next_up(x: f64) -> f64 {
+    if x.is_nan() || x == f64::INFINITY {
+        return x;
+    }
+    if x == 0.0 {
+        // Both +0 and -0: the smallest positive subnormal.
+        return f64::from_bits(1);
+    }
+    let bits = x.to_bits();
+    if x > 0.0 {
+        f64::from_bits(bits + 1)
+    } else {
+        f64::from_bits(bits - 1)
+    }
+}
+
+/// The next f64 below `x` (towards `-inf`); `-inf` and NaN map to themselves.
+#[inline(always)]
+pub(crate) fn next_down(x: f64) -> f64 {
+    -next_up(-x)
+}
+
+impl Interval {
+    /// The point interval of an f64, exact by definition.
+    #[inline]
+    pub(crate) fn exact(x: f64) -> Self {
+        Interval { lo: x, hi: x }
+    }
+
+    /// The sign of every number in the interval, or `None` when the interval contains numbers
+    /// of different signs (or is NaN): the filter cannot decide.
+    #[inline]
+    pub(crate) fn sign(&self) -> Option<Sign> {
+        if self.lo > 0.0 {
+            Some(Sign::Positive)
+        } else if self.hi < 0.0 {
+            Some(Sign::Negative)
+        } else if self.lo == 0.0 && self.hi == 0.0 {
+            Some(Sign::Zero)
+        } else {
+            None
+        }
+    }
+
+    #[inline]
+    pub(crate) fn add(&self, o: &Self) -> Self {
+        Interval {
+            lo: next_down(self.lo + o.lo),
+            hi: next_up(self.hi + o.hi),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn sub(&self, o: &Self) -> Self {
+        Interval {
+            lo: next_down(self.lo - o.hi),
+            hi: next_up(self.hi - o.lo),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn mul(&self, o: &Self) -> Self {
+        let a = self.lo * o.lo;
+        let b = self.lo * o.hi;
+        let c = self.hi * o.lo;
+        let d = self.hi * o.hi;
+        Interval {
+            lo: next_down(a.min(b).min(c.min(d))),
+            hi: next_up(a.max(b).max(c.max(d))),
+        }
+    }
+
+    /// The midpoint, for approximate coordinates only.
+    pub(crate) fn mid(&self) -> f64 {
+        self.lo * 0.5 + self.hi * 0.5
+    }
+
+    /// Lower endpoint (tests only).
+    #[cfg(test)]
+    pub(crate) fn lo(&self) -> f64 {
+        self.lo
+    }
+
+    /// Upper endpoint (tests only).
+    #[cfg(test)]
+    pub(crate) fn hi(&self) -> f64 {
+        self.hi
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn next_up_and_down_step_one_ulp_across_zero_and_infinity() {
+        assert_eq!(next_up(0.0), f64::from_bits(1));
+        assert_eq!(next_up(-0.0), f64::from_bits(1));
+        assert_eq!(next_down(0.0), -f64::from_bits(1));
+        assert_eq!(next_up(1.0), 1.0 + f64::EPSILON);
+        assert_eq!(next_down(-1.0), -1.0 - f64::EPSILON);
+        assert_eq!(next_up(-f64::from_bits(1)), -0.0);
+        assert_eq!(next_down(f64::INFINITY), f64::MAX);
+        assert_eq!(next_up(f64::NEG_INFINITY), -f64::MAX);
+        assert_eq!(next_up(f64::INFINITY), f64::INFINITY);
+    }
+
+    #[test]
+    fn overflow_and_zero_times_infinity_stay_sound() {
+        let big = Interval::exact(f64::MAX);
+        let sq = big.mul(&big);
+        assert_eq!(sq.lo(), f64::MAX);
+        assert_eq!(sq.hi(), f64::INFINITY);
+        assert_eq!(sq.sign(), Some(Sign::Positive));
+        let z = Interval::exact(0.0);
+        let p = z.mul(&sq);
+        assert!(p.lo() <= 0.0 && p.hi() >= 0.0);
+        let diff = sq.sub(&sq);
+        assert_eq!(diff.sign(), None);
+    }
+
+    #[test]
+    fn underflowing_product_is_not_decided_as_zero() {
+        let tiny = Interval::exact(1e-200);
+        let p = tiny.mul(&tiny);
+        assert_eq!(p.sign(), None);
+        assert!(p.lo() <= 0.0 && p.hi() > 0.0);
+    }
+}
