@@ -695,3 +695,35 @@ fn touching_and_coplanar_shells() {
         assert_eq!(twice, sa);
     }
 }
+
+#[test]
+fn random_half_lattice_tetrahedra_match_the_oracle() {
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+    // Vertices on the half-integer lattice: rays through vertices and edges, and crossings at
+    // centre heights, are frequent; other crossings stay ≥ 1/1024 from a centre, far above the
+    // oracle's ε.
+    let point = || proptest::array::uniform3((-8i32..=8).prop_map(|v| f64::from(v) * 0.5));
+    let mut runner = TestRunner::new_with_rng(
+        Config::with_cases(60),
+        TestRng::from_seed(RngAlgorithm::ChaCha, &[5; 32]),
+    );
+    let grid = Grid::new(1.0, 4).unwrap();
+    runner
+        .run(&proptest::array::uniform4(point()), |p| {
+            let tris = [[0u32, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]];
+            let mesh = Mesh::from_triangles(p.to_vec(), &tris).unwrap();
+            let [a, b, c, d] = p;
+            let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+            let (u, v, w) = (sub(b, a), sub(c, a), sub(d, a));
+            let det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+                + u[2] * (v[0] * w[1] - v[1] * w[0]);
+            prop_assume!(det != 0.0);
+            for level in 0..2 {
+                let (bad, _, _) = compare_with_oracle(&mesh, grid, level);
+                prop_assert_eq!(bad, 0, "level {}", level);
+            }
+            Ok(())
+        })
+        .unwrap();
+}
