@@ -10,7 +10,7 @@
 //! 1. [`discretize`] (`discretize.rs`): closed mesh → per-column winding numbers along rays
 //!    through voxel centres, decided with exact predicates (top-left fill rule across the
 //!    rays, exact above/below tests along them) → [`Column`]s at one level.
-//! 2. [`Solid::from_columns`] (`tile.rs`): columns → normalised tiles: uniform tiles, 8×8
+//! 2. `Solid::from_columns` (`tile.rs`): columns → normalised tiles: uniform tiles, 8×8
 //!    [`Brick`]s with 64-bit masks (`brick.rs`), split tiles.
 //! 3. [`Solid::op`] (`ops.rs`): ∪ ∩ − ⊕ with multi-scale alignment, normalised bottom-up.
 //! 4. [`Solid::to_boxes`] (`to_boxes.rs`): disjoint axis-aligned boxes, the orthogonal
