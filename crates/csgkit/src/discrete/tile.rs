@@ -169,9 +169,12 @@ impl Tile {
 
     fn voxel_count(&self, level: u8) -> u64 {
         match self {
-            Tile::Uniform(c) => c.len() << (2 * u32::from(level)),
+            // Saturates only past 2^64 voxels (a level-20 tile of a 2^24-voxel column).
+            Tile::Uniform(c) => c.len().saturating_mul(1 << (2 * u32::from(level))),
             Tile::Brick(b) => b.voxel_count(),
-            Tile::Split(children) => children.iter().map(|c| c.voxel_count(level - 1)).sum(),
+            Tile::Split(children) => children
+                .iter()
+                .fold(0, |n, c| n.saturating_add(c.voxel_count(level - 1))),
         }
     }
 
@@ -346,10 +349,12 @@ impl Solid {
         self.roots.is_empty()
     }
 
-    /// The number of finest voxels inside.
+    /// The number of finest voxels inside (saturating at `u64::MAX`).
     pub fn voxel_count(&self) -> u64 {
         let r = self.grid.levels();
-        self.roots.values().map(|t| t.voxel_count(r)).sum()
+        self.roots
+            .values()
+            .fold(0, |n, t| n.saturating_add(t.voxel_count(r)))
     }
 
     /// Whether finest voxel `(x, y, z)` is inside.
