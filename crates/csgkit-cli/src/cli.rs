@@ -4,6 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::commands::{self, boxes, demo};
+
 /// Exact boolean operations on 3D solids.
 #[derive(Parser, Debug)]
 #[command(name = "csgkit", version, about, long_about = None)]
@@ -14,19 +16,39 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Print a mesh file's format, counts, bounding box and attributes.
+    #[command(after_help = "Example:\n  csgkit info crates/csgkit/tests/data/cube.obj")]
+    Info(commands::info::InfoArgs),
+    /// Check whether a mesh is a valid solid and print every measure.
+    ///
+    /// Exit status: 0 when the mesh is closed (every edge used as often in each direction)
+    /// and consistently oriented, 1 when it is not, 2 on any error.
+    #[command(
+        after_help = "Examples:\n  csgkit check crates/csgkit/tests/data/cube.obj\n  \
+                            csgkit check --json part.stl"
+    )]
+    Check(commands::check::CheckArgs),
+    /// The exact boundary of a union of axis-aligned boxes (.vox or a box text file).
+    Boxes(boxes::BoxesArgs),
+    /// Runs the engine on built-in data and writes its outputs.
+    Demo(demo::DemoArgs),
     /// Booleans and voxelisation with the multi-scale depth-list engine.
     #[command(
         after_help = "Examples:\n  csgkit discrete voxelize bunny.obj -o bunny_vox.obj --cell 0.01 --stats\n  \
                             csgkit discrete difference wall.stl@8 torus.obj@1 -o out.obj\n  \
                             csgkit discrete demo"
     )]
-    Discrete(crate::discrete::DiscreteArgs),
+    Discrete(commands::discrete::DiscreteArgs),
 }
 
 /// Parses the command line and runs the chosen subcommand.
 pub fn run() -> anyhow::Result<ExitCode> {
     let cli = Cli::parse();
     match cli.command {
-        Command::Discrete(args) => crate::discrete::run(&args),
+        Command::Info(args) => commands::info::run(&args),
+        Command::Check(args) => commands::check::run(&args),
+        Command::Boxes(args) => boxes::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Demo(args) => demo::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Discrete(args) => commands::discrete::run(&args),
     }
 }

@@ -4,7 +4,7 @@
 //! valid solid), 2 any error (bad input, failed operation, usage).
 
 mod cli;
-mod discrete;
+mod commands;
 
 use std::process::ExitCode;
 

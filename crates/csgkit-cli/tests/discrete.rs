@@ -40,6 +40,22 @@ fn voxelize_writes_a_closed_surfel_mesh_and_stats() {
     // 8³ voxels: 6·64 unit quads.
     let mesh = csgkit::io::read_mesh(&out).unwrap().mesh;
     assert_eq!(mesh.face_count(), 6 * 64);
+    // Through the orthogonal engine: one maximal face per side.
+    let ortho = csgkit()
+        .args(["discrete", "voxelize"])
+        .arg(repo_cube())
+        .arg("-o")
+        .arg(&out)
+        .args(["--cell", "0.125", "--mesh", "ortho"])
+        .output()
+        .unwrap();
+    assert!(
+        ortho.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ortho.stderr)
+    );
+    let mesh = csgkit::io::read_mesh(&out).unwrap().mesh;
+    assert_eq!(mesh.face_count(), 6);
     std::fs::remove_dir_all(dir).unwrap();
 }
 

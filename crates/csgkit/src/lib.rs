@@ -23,6 +23,7 @@ mod index;
 pub mod io;
 pub mod kernel;
 pub mod mesh;
+pub mod ortho;
 
 pub use index::{Aabb, Bvh};
 pub use io::{

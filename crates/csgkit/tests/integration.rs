@@ -8,3 +8,11 @@ mod discrete_cases;
 mod io_formats;
 // Truncated, corrupted and random bytes make no reader panic.
 mod io_fuzz;
+// Every shared data mesh analysed: topology and measures agree with the manifest.
+mod real_data;
+// The orthogonal engine: design vectors E1-E10 and R1-R6.
+mod ortho_cases;
+// The orthogonal engine against a brute-force grid oracle; metamorphic relations.
+mod ortho_oracle;
+// The orthogonal engine on the shared MagicaVoxel models.
+mod ortho_vox;

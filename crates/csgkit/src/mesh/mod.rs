@@ -17,12 +17,35 @@
 //! [`Mesh::check_invariants`] verifies all of it; [`Mesh::from_parts`] establishes it.
 //! Positions may be any f64, including non-finite ones: readers reject those at the file
 //! boundary, where they can name the line.
+//!
+//! # Validity and measures
+//! Whether a mesh bounds a solid is a measure, not an invariant. [`analyze`] (or
+//! [`Mesh::report`]) welds equal positions ([`weld`]), builds the edge table once
+//! ([`EdgeTable`]) and gathers every check and measure in a [`MeshReport`]: boundary edges
+//! and loops, closedness (every edge balanced), edge- and vertex-manifoldness, orientation,
+//! components, Euler characteristic and genus ([`Topology`]), exactly decided degenerate and
+//! duplicate faces ([`count_degenerate`]), and signed volume, area and bounding box
+//! ([`measure`]). The submodules' docs define each number and say where it differs from the
+//! reference measurements in `shared/data/manifest.json`.
 
+mod degenerate;
 mod ids;
+mod measures;
+mod report;
+#[cfg(test)]
+mod test_meshes;
+mod topology;
+mod union_find;
 mod validation;
+mod weld;
 
+pub use degenerate::{DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape};
 pub use ids::{FaceId, OperandId, VertexId};
+pub use measures::{BoundingBox, Measures, bounding_box, measure};
+pub use report::{MeshReport, analyze};
+pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
 pub use validation::InvalidMesh;
+pub use weld::{Welding, apply_welding, weld, weld_positions};
 
 /// An RGBA colour with 8 bits per channel.
 pub type Rgba = [u8; 4];

@@ -128,7 +128,9 @@ fn check_faces(parts: &MeshParts) -> Result<usize, InvalidMesh> {
                 });
             }
             for (face, pair) in starts.windows(2).enumerate() {
-                if pair[1] < pair[0] {
+                // The last offset equals the corner count, so one past it must decrease later;
+                // checking it here keeps the slice below in bounds.
+                if pair[1] < pair[0] || pair[1] as usize > parts.corners.len() {
                     return Err(InvalidMesh::MalformedOffsets {
                         reason: "offsets must not decrease",
                     });
@@ -224,6 +226,37 @@ mod tests {
                 face: 1,
                 corners: 2
             }
+        );
+    }
+
+    #[test]
+    fn rejects_malformed_offsets_with_the_exact_reason() {
+        let parts = |corners: Vec<u32>, face_starts: Option<Vec<u32>>| MeshParts {
+            positions: vec![[0.0; 3]; 4],
+            corners,
+            face_starts,
+            ..MeshParts::default()
+        };
+        let reason = |parts| match Mesh::from_parts(parts) {
+            Err(InvalidMesh::MalformedOffsets { reason }) => reason,
+            other => panic!("expected malformed offsets, got {other:?}"),
+        };
+        assert_eq!(
+            reason(parts(vec![0, 1, 2, 3], None)),
+            "a triangle mesh's corner count must be a multiple of 3"
+        );
+        let quad = vec![0, 1, 2, 3];
+        assert_eq!(
+            reason(parts(quad.clone(), Some(vec![1, 4]))),
+            "the first offset must be 0"
+        );
+        assert_eq!(
+            reason(parts(quad.clone(), Some(vec![0, 3]))),
+            "the last offset must equal the corner count"
+        );
+        assert_eq!(
+            reason(parts(quad, Some(vec![0, 5, 4]))),
+            "offsets must not decrease"
         );
     }
 

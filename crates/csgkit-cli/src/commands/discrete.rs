@@ -9,7 +9,8 @@
 //!   fine torus, built in code.
 //!
 //! Output: `.txt` writes the disjoint boxes (`x0 y0 z0 x1 y1 z1` per line, the input format of
-//! `csgkit boxes`); any mesh format writes the closed unit-surfel mesh. `--stats` prints one
+//! `csgkit boxes`); any mesh format writes a closed mesh without T-junctions: by default the
+//! paper's unit surfels, or with `--mesh ortho` the orthogonal engine's maximal faces. `--stats` prints one
 //! JSON object on stdout with counts and seconds per stage; `op_seconds` covers
 //! discretisation, the booleans and the output conversion, without file I/O.
 
@@ -77,6 +78,20 @@ struct Common {
     /// No progress bar, even on a terminal.
     #[arg(long)]
     no_progress: bool,
+    /// How a mesh output is built. Unit surfels are the default because they are about 20×
+    /// faster to build at 10^5 boxes and more (the orthogonal engine took 53 s for the
+    /// armadillo at 1024³); `ortho` gives far fewer, maximal faces.
+    #[arg(long, value_enum, default_value = "surfels")]
+    mesh: MeshMode,
+}
+
+/// How the result becomes a mesh.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum MeshMode {
+    /// Boxes through the orthogonal engine: maximal faces with holes.
+    Ortho,
+    /// The paper's top, bottom and lateral surfels as unit quads.
+    Surfels,
 }
 
 #[derive(clap::Args, Debug)]
@@ -197,7 +212,7 @@ fn run_op(
     let t_bool = Instant::now();
     let result = Solid::op_all(&solids, op)?.expect("at least one operand");
     let boolean_seconds = t_bool.elapsed().as_secs_f64();
-    let report = write_result(&result, &common.output)?;
+    let report = write_result(&result, &common.output, common.mesh)?;
     if common.stats {
         let inputs: Vec<_> = parsed
             .iter()
@@ -241,8 +256,8 @@ struct Written {
     write_seconds: f64,
 }
 
-/// Writes boxes (`.txt`) or the surfel mesh to `path`.
-fn write_result(solid: &Solid, path: &Path) -> anyhow::Result<Written> {
+/// Writes boxes (`.txt`) or a mesh built as `mode` says to `path`.
+fn write_result(solid: &Solid, path: &Path, mode: MeshMode) -> anyhow::Result<Written> {
     let t = Instant::now();
     let is_boxes = path
         .extension()
@@ -265,10 +280,13 @@ fn write_result(solid: &Solid, path: &Path) -> anyhow::Result<Written> {
             write_seconds: t.elapsed().as_secs_f64(),
         });
     }
-    let mesh = solid.to_surfel_mesh().context("surfel mesh too large")?;
+    let mesh = match mode {
+        MeshMode::Ortho => solid.to_mesh().context("orthogonal engine failed")?,
+        MeshMode::Surfels => solid.to_surfel_mesh().context("surfel mesh too large")?,
+    };
     let convert_seconds = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    csgkit::io::write_mesh(path, &mesh, csgkit::io::WriteOptions::default())
+    csgkit::write_mesh(path, &mesh, csgkit::WriteOptions::default())
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(Written {
         json: json!({"vertices": mesh.vertex_count(), "faces": mesh.face_count()}),
@@ -339,8 +357,19 @@ impl Progress {
     }
 }
 
-/// The showcase: an 8-cell wall minus a 1-cell torus in a 64 box, as in the paper.
+/// `csgkit discrete demo`: the showcase, written to `-o` when given.
 fn run_demo(args: &DemoArgs) -> anyhow::Result<ExitCode> {
+    let result = showcase()?;
+    if let Some(path) = &args.output {
+        let written = write_result(&result, path, MeshMode::Ortho)?;
+        println!("  wrote {} ({})", path.display(), written.json);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The paper's multi-scale showcase, printed: an 8-cell wall minus a 1-cell torus in a 64
+/// box. Returns the result.
+pub fn showcase() -> anyhow::Result<Solid> {
     let (grid, levels) = Grid::for_cells(&[8.0, 1.0])?;
     let wall = box_mesh([8.0, 0.0, 0.0], [40.0, 64.0, 64.0]);
     let torus = torus_mesh([24.0, 32.0, 32.0], 18.0, 5.0, 96, 32);
@@ -372,14 +401,9 @@ fn run_demo(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     }
     writeln!(
         out,
-        "  {:.3} s; only the tiles the torus touches are refined",
-        seconds
+        "  {seconds:.3} s; only the tiles the torus touches are refined"
     )?;
-    if let Some(path) = &args.output {
-        let written = write_result(&result, path)?;
-        writeln!(out, "  wrote {} ({})", path.display(), written.json)?;
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok(result)
 }
 
 /// An axis-aligned box mesh, outward quads.

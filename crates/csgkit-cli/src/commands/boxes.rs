@@ -1,0 +1,270 @@
+//! `csgkit boxes`: the exact boundary of a union of axis-aligned boxes.
+//!
+//! Input is a MagicaVoxel `.vox` file (by extension) or a text file of `x0 y0 z0 x1 y1 z1`
+//! lines. Voxel colours become face materials (named `material_<palette index>`) and face
+//! colours; `--per-material` writes one solid per colour instead of one solid with coloured
+//! faces.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use anyhow::Context;
+use clap::Args;
+use csgkit::ortho::{
+    BRep, MeshOptions, MeshOutput, Stage, VoxOptions, box_union_per_material, box_union_timed,
+    parse_boxes, per_material_mesh, read_vox,
+};
+use csgkit::{Mesh, Rgba, WriteOptions, write_mesh};
+
+/// Arguments of `csgkit boxes`.
+#[derive(Args, Debug, Clone)]
+#[command(after_help = "Examples:\n  \
+    csgkit boxes boxes.txt -o union.obj\n  \
+    csgkit boxes castle.vox -o castle.ply --per-material --stats\n  \
+    csgkit boxes castle.vox -o castle.obj --manifold --model 2")]
+pub struct BoxesArgs {
+    /// A `.vox` file, or a text file with one box `x0 y0 z0 x1 y1 z1` per line.
+    pub input: PathBuf,
+    /// The output mesh; its extension chooses the format (obj, ply, off, stl).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Split non-manifold edges and vertices into a 2-manifold (triangles; not for STL).
+    #[arg(long)]
+    pub manifold: bool,
+    /// Write faces without holes as polygons (the default); faces with holes are triangulated.
+    #[arg(long, conflicts_with = "triangles")]
+    pub polygons: bool,
+    /// Triangulate every face.
+    #[arg(long)]
+    pub triangles: bool,
+    /// One solid per material (voxel colour): interfaces appear in both, opposite ways.
+    #[arg(long)]
+    pub per_material: bool,
+    /// Print one JSON object with counts and seconds per stage.
+    #[arg(long)]
+    pub stats: bool,
+    /// In a `.vox` file, take model N alone (0-based), ignoring the scene graph.
+    #[arg(long, value_name = "N")]
+    pub model: Option<usize>,
+}
+
+/// Boxes, their materials (if any) and the palette, as read from the input.
+struct Input {
+    boxes: Vec<[f64; 6]>,
+    materials: Option<Vec<u32>>,
+    palette: Option<Vec<Rgba>>,
+    voxels: Option<usize>,
+}
+
+/// Counts and seconds for `--stats`.
+#[derive(Default)]
+struct Report {
+    read_seconds: f64,
+    stages: csgkit::ortho::StageSeconds,
+    mesh_seconds: f64,
+    write_seconds: f64,
+    vertices: usize,
+    faces: usize,
+    holes: usize,
+    dropped: usize,
+    solids: usize,
+}
+
+/// Runs `csgkit boxes`.
+pub fn run(args: &BoxesArgs) -> anyhow::Result<()> {
+    let clock = Instant::now();
+    let input = read_input(&args.input, args.model)?;
+    let mut report = Report {
+        read_seconds: clock.elapsed().as_secs_f64(),
+        ..Report::default()
+    };
+    let options = MeshOptions {
+        triangles: args.triangles || args.manifold,
+        manifold: args.manifold,
+    };
+    let op_clock = Instant::now();
+    let out = build_mesh(&input, args.per_material, options, &mut report)
+        .with_context(|| format!("computing the union of {}", args.input.display()))?;
+    let op_seconds = op_clock.elapsed().as_secs_f64();
+    if out.unsplit_edges > 0 {
+        eprintln!(
+            "csgkit: warning: {} non-manifold edges kept shared (no f64 strictly between their ends)",
+            out.unsplit_edges
+        );
+    }
+    if args.manifold
+        && args
+            .output
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("stl"))
+    {
+        eprintln!(
+            "csgkit: warning: STL stores positions, not vertices: the manifold split is lost"
+        );
+    }
+    let mesh = with_colors(out.mesh, input.palette.as_deref());
+    let write_clock = Instant::now();
+    write_mesh(&args.output, &mesh, WriteOptions::default())
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    report.write_seconds = write_clock.elapsed().as_secs_f64();
+    if args.stats {
+        println!("{}", stats_json(&input, &report, &mesh, op_seconds));
+    }
+    Ok(())
+}
+
+fn read_input(path: &Path, model: Option<usize>) -> anyhow::Result<Input> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let is_vox = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("vox"))
+        || bytes.starts_with(b"VOX ");
+    if is_vox {
+        let read = read_vox(&bytes, VoxOptions { model })
+            .with_context(|| format!("reading {}", path.display()))?;
+        return Ok(Input {
+            materials: Some(read.colors.iter().map(|&c| u32::from(c)).collect()),
+            boxes: read.boxes,
+            palette: read.palette,
+            voxels: Some(read.voxel_count),
+        });
+    }
+    anyhow::ensure!(model.is_none(), "--model applies to .vox input only");
+    let text = String::from_utf8(bytes)
+        .with_context(|| format!("{} is not UTF-8 text", path.display()))?;
+    let boxes = parse_boxes(&text).with_context(|| format!("reading {}", path.display()))?;
+    Ok(Input {
+        boxes,
+        materials: None,
+        palette: None,
+        voxels: None,
+    })
+}
+
+fn build_mesh(
+    input: &Input,
+    per_material: bool,
+    options: MeshOptions,
+    report: &mut Report,
+) -> anyhow::Result<MeshOutput> {
+    let solids: Vec<(u32, BRep)> = match (&input.materials, per_material) {
+        (Some(materials), true) => {
+            let clock = Instant::now();
+            let solids = box_union_per_material(&input.boxes, materials)?;
+            report.stages.sweep = clock.elapsed().as_secs_f64();
+            solids
+        }
+        (materials, _) => {
+            let bar = ProgressBar::new(input.boxes.len());
+            let show = |stage: Stage, done: usize, total: usize| bar.show(stage, done, total);
+            let (brep, stages) = box_union_timed(&input.boxes, materials.as_deref(), Some(&show))?;
+            bar.finish();
+            report.stages = stages;
+            vec![(0, brep)]
+        }
+    };
+    for (_, brep) in &solids {
+        report.vertices += brep.vertices.len();
+        report.faces += brep.faces.len();
+        report.holes += brep.faces.iter().map(|f| f.holes.len()).sum::<usize>();
+        report.dropped = brep.dropped_boxes;
+    }
+    report.solids = solids.len();
+    let clock = Instant::now();
+    let out = if solids.len() == 1 && !per_material {
+        solids[0].1.to_mesh(options)?
+    } else {
+        per_material_mesh(&solids, options)?
+    };
+    report.mesh_seconds = clock.elapsed().as_secs_f64();
+    Ok(out)
+}
+
+/// A one-line progress bar on stderr, shown only on a terminal and for inputs large enough
+/// to take a noticeable time.
+struct ProgressBar {
+    enabled: bool,
+    /// The last percentage drawn, per stage (0 = sweep, 1 = loops), plus one.
+    last: [AtomicUsize; 2],
+}
+
+impl ProgressBar {
+    const MIN_BOXES: usize = 50_000;
+
+    fn new(boxes: usize) -> Self {
+        Self {
+            enabled: boxes >= Self::MIN_BOXES && std::io::stderr().is_terminal(),
+            last: [AtomicUsize::new(0), AtomicUsize::new(0)],
+        }
+    }
+
+    /// Redraws when the percentage of `stage` grows; never cancels.
+    fn show(&self, stage: Stage, done: usize, total: usize) -> bool {
+        if !self.enabled || total == 0 {
+            return true;
+        }
+        let (slot, name) = match stage {
+            Stage::Sweep => (0, "sweep"),
+            _ => (1, "loops"),
+        };
+        let percent = 100 * done / total + 1;
+        if self.last[slot].fetch_max(percent, Ordering::Relaxed) < percent {
+            let filled = (percent - 1) / 5;
+            eprint!(
+                "\r{name:>5} [{}{}] {:>3}%",
+                "#".repeat(filled),
+                " ".repeat(20 - filled),
+                percent - 1
+            );
+        }
+        true
+    }
+
+    fn finish(&self) {
+        if self.enabled {
+            eprintln!();
+        }
+    }
+}
+
+/// Gives every face the palette colour of its material.
+fn with_colors(mesh: Mesh, palette: Option<&[Rgba]>) -> Mesh {
+    let (Some(palette), Some(materials)) = (palette, mesh.face_materials()) else {
+        return mesh;
+    };
+    let colors = materials
+        .iter()
+        .map(|&m| {
+            palette
+                .get((m as usize).wrapping_sub(1))
+                .copied()
+                .unwrap_or([255; 4])
+        })
+        .collect();
+    let mut parts = mesh.into_parts();
+    parts.face_colors = Some(colors);
+    Mesh::from_parts(parts).expect("one colour per face keeps the mesh valid")
+}
+
+fn stats_json(input: &Input, r: &Report, mesh: &Mesh, op_seconds: f64) -> serde_json::Value {
+    serde_json::json!({
+        "input_boxes": input.boxes.len(),
+        "dropped_boxes": r.dropped,
+        "voxels": input.voxels,
+        "solids": r.solids,
+        "brep_vertices": r.vertices,
+        "brep_faces": r.faces,
+        "brep_holes": r.holes,
+        "output_vertices": mesh.vertex_count(),
+        "output_faces": mesh.face_count(),
+        "read_seconds": r.read_seconds,
+        "rank_seconds": r.stages.rank,
+        "sweep_seconds": r.stages.sweep,
+        "loops_seconds": r.stages.loops,
+        "mesh_seconds": r.mesh_seconds,
+        "write_seconds": r.write_seconds,
+        "op_seconds": op_seconds,
+    })
+}

@@ -1,0 +1,137 @@
+//! `csgkit check FILE [--json]`: every validity check and measure of a mesh.
+//!
+//! Runs [`csgkit::mesh::analyze`] and prints a table, or with `--json` one JSON object with
+//! the file, its format and every field of [`csgkit::mesh::MeshReport`] (non-finite numbers
+//! as `null`). Exit status 0 when the mesh is a valid solid (closed and consistently oriented;
+//! non-manifold edges allowed), 1 when it is not; errors exit 2 through `main`.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use csgkit::mesh::MeshReport;
+
+use super::{describe_format, load, point};
+
+/// Arguments of `csgkit check`.
+#[derive(clap::Args, Debug)]
+pub struct CheckArgs {
+    /// The mesh file (OBJ, STL, PLY or OFF).
+    pub file: PathBuf,
+    /// Print one JSON object instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Analyses the mesh and prints the report; exit status 0 for a valid solid, 1 otherwise.
+pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
+    let loaded = load(&args.file)?;
+    let mut report = loaded.mesh.report();
+    report.count_file_vertices(loaded.raw_vertex_count);
+    let text = if args.json {
+        let mut json = serde_json::to_value(&report)?;
+        if let Some(object) = json.as_object_mut() {
+            object.insert("file".into(), args.file.display().to_string().into());
+            object.insert("format".into(), describe_format(&loaded).into());
+        }
+        format!("{json}\n")
+    } else {
+        table(
+            &args.file.display().to_string(),
+            &describe_format(&loaded),
+            &report,
+        )?
+    };
+    std::io::stdout().lock().write_all(text.as_bytes())?;
+    Ok(if report.is_valid_solid() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// The human-readable report: one measure per line, then the verdict.
+fn table(file: &str, format: &str, r: &MeshReport) -> anyhow::Result<String> {
+    let t = &r.topology;
+    let yes = |b: bool| if b { "yes" } else { "no" };
+    let genus = t
+        .genus
+        .map_or("undefined (not a closed oriented 2-manifold)".into(), |g| {
+            g.to_string()
+        });
+    let bbox = r.measures.bbox.map_or("none".into(), |b| {
+        format!("{} .. {}", point(b.min), point(b.max))
+    });
+    let rows: [(&str, String); 26] = [
+        ("file", file.into()),
+        ("format", format.into()),
+        (
+            "vertices",
+            format!(
+                "{} ({} duplicate, {} unreferenced)",
+                r.vertices, r.duplicate_vertices, t.unreferenced_vertices
+            ),
+        ),
+        (
+            "faces",
+            format!(
+                "{} ({} triangles after fan split, {} polygons)",
+                r.faces, r.triangles, r.polygons
+            ),
+        ),
+        ("edges", t.edges.to_string()),
+        (
+            "closed",
+            format!(
+                "{} ({} unbalanced edges)",
+                yes(r.closed),
+                t.unbalanced_edges
+            ),
+        ),
+        ("boundary edges", t.boundary_edges.to_string()),
+        ("boundary loops", t.boundary_loops.to_string()),
+        ("edge-manifold", yes(r.edge_manifold).into()),
+        ("non-manifold edges", t.non_manifold_edges.to_string()),
+        ("vertex-manifold", yes(r.vertex_manifold).into()),
+        ("non-manifold vertices", t.non_manifold_vertices.to_string()),
+        ("oriented", yes(r.oriented).into()),
+        ("misoriented edges", t.misoriented_edges.to_string()),
+        ("components", t.components.to_string()),
+        ("vertex components", t.vertex_components.to_string()),
+        ("euler characteristic", t.euler.to_string()),
+        ("genus", genus),
+        ("repeated-vertex faces", r.repeated_vertex_faces.to_string()),
+        ("collinear faces", r.collinear_faces.to_string()),
+        ("duplicate faces", r.duplicate_faces.to_string()),
+        (
+            "faces left out",
+            format!("{} (fewer than 3 distinct vertices)", t.excluded_faces),
+        ),
+        ("volume", r.measures.volume.to_string()),
+        ("area", r.measures.area.to_string()),
+        ("bbox", bbox),
+        ("valid solid", verdict(r)),
+    ];
+    let mut out = String::new();
+    for (name, value) in rows {
+        writeln!(out, "{:<22} {value}", format!("{name}:"))?;
+    }
+    Ok(out)
+}
+
+/// "yes", or "no" with the reasons.
+fn verdict(r: &MeshReport) -> String {
+    let mut reasons = Vec::new();
+    if !r.closed {
+        reasons.push("not closed");
+    }
+    if !r.oriented {
+        reasons.push("not consistently oriented");
+    }
+    if reasons.is_empty() {
+        "yes".into()
+    } else {
+        format!("no ({})", reasons.join(", "))
+    }
+}

@@ -1,0 +1,196 @@
+//! Exact classification of degenerate faces and detection of duplicate faces.
+//!
+//! # Definitions
+//! - A face is **combinatorially degenerate** when two of its corners are the same welded
+//!   vertex, and **collinear** when its vertices are distinct but all lie on one line.
+//!   Both have zero area; the reference counts the first as `comb_degen` and both as
+//!   `zero_area`.
+//! - Collinearity is decided exactly: three points are collinear iff the cross product
+//!   (b − a) × (c − a) vanishes, and its three components are the 2D orientation determinants
+//!   of the projections on the yz, zx and xy planes. Each is decided by Shewchuk's adaptive
+//!   `orient2d` (the `robust` crate), whose sign is exact for every finite f64 input; no
+//!   epsilon takes part. A polygon is collinear when every corner is collinear with its first
+//!   corner and the first corner at another position.
+//! - **Duplicate faces**: faces whose sorted welded vertex lists equal an earlier face's,
+//!   whatever their orientation or starting corner (the reference's "repeated vertex
+//!   triples"). Degenerate faces count too.
+//!
+//! # Numeric model
+//! Exact for finite coordinates. Non-finite coordinates (rejected by readers) give an
+//! unspecified but panic-free answer.
+//!
+//! # Complexity
+//! O(C) predicate calls for C corners; duplicate detection sorts the faces, O(F log F).
+
+use robust::{Coord, orient2d};
+
+use super::Mesh;
+
+/// The shape of one face, decided exactly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FaceShape {
+    /// At least three corners not on one line: positive area.
+    Proper,
+    /// Two corners are the same (welded) vertex.
+    RepeatedVertex,
+    /// Distinct vertices, all on one line.
+    Collinear,
+}
+
+/// Classifies a face given its welded vertex indices and the mesh positions.
+pub fn face_shape(positions: &[[f64; 3]], corners: &[u32]) -> FaceShape {
+    if has_repeated_vertex(corners) {
+        return FaceShape::RepeatedVertex;
+    }
+    if let [a, b, c] = *corners {
+        let p = |v: u32| positions[v as usize];
+        return if are_collinear(p(a), p(b), p(c)) {
+            FaceShape::Collinear
+        } else {
+            FaceShape::Proper
+        };
+    }
+    let first = positions[corners[0] as usize];
+    let other = corners
+        .iter()
+        .map(|&v| positions[v as usize])
+        .find(|p| *p != first);
+    let Some(second) = other else {
+        return FaceShape::Collinear;
+    };
+    let all_on_line = corners
+        .iter()
+        .all(|&v| are_collinear(first, second, positions[v as usize]));
+    if all_on_line {
+        FaceShape::Collinear
+    } else {
+        FaceShape::Proper
+    }
+}
+
+/// Whether three points lie on one line (or coincide), decided exactly.
+pub fn are_collinear(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
+    // The cross product's components are the orientations of the three axis projections.
+    [(1, 2), (2, 0), (0, 1)].iter().all(|&(i, j)| {
+        let project = |p: [f64; 3]| Coord { x: p[i], y: p[j] };
+        orient2d(project(a), project(b), project(c)) == 0.0
+    })
+}
+
+/// Whether a face uses one vertex index twice.
+fn has_repeated_vertex(corners: &[u32]) -> bool {
+    if let [a, b, c] = corners {
+        return a == b || b == c || a == c;
+    }
+    let mut sorted = corners.to_vec();
+    sorted.sort_unstable();
+    sorted.windows(2).any(|w| w[0] == w[1])
+}
+
+/// Counts of degenerate and duplicate faces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DegenerateCounts {
+    /// Faces with a repeated vertex.
+    pub repeated_vertex: usize,
+    /// Faces with distinct but collinear vertices.
+    pub collinear: usize,
+    /// Faces whose vertex set repeats an earlier face's.
+    pub duplicate: usize,
+}
+
+/// Classifies every face of a welded mesh and counts duplicate faces.
+pub fn count_degenerate(mesh: &Mesh) -> DegenerateCounts {
+    let mut counts = DegenerateCounts::default();
+    for corners in mesh.faces() {
+        match face_shape(mesh.positions(), corners) {
+            FaceShape::Proper => {}
+            FaceShape::RepeatedVertex => counts.repeated_vertex += 1,
+            FaceShape::Collinear => counts.collinear += 1,
+        }
+    }
+    counts.duplicate = count_duplicate_faces(mesh);
+    counts
+}
+
+/// The number of faces whose sorted vertex list equals an earlier face's.
+///
+/// Sorting the keys and counting equal neighbours is faster than hashing on large meshes.
+/// A triangle never equals a larger face, so the two kinds are counted apart.
+fn count_duplicate_faces(mesh: &Mesh) -> usize {
+    let mut triangles = Vec::new();
+    let mut polygons = Vec::new();
+    for corners in mesh.faces() {
+        if let [a, b, c] = *corners {
+            let mut key = [a, b, c];
+            key.sort_unstable();
+            triangles.push(key);
+        } else {
+            let mut key = corners.to_vec();
+            key.sort_unstable();
+            polygons.push(key);
+        }
+    }
+    triangles.sort_unstable();
+    polygons.sort_unstable();
+    let repeats = |n: usize, same: &dyn Fn(usize) -> bool| (1..n).filter(|&i| same(i)).count();
+    repeats(triangles.len(), &|i| triangles[i] == triangles[i - 1])
+        + repeats(polygons.len(), &|i| polygons[i] == polygons[i - 1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn collinearity_is_exact() {
+        let a = [0.0, 0.0, 0.0];
+        let b = [1.0, 1.0, 1.0];
+        assert!(are_collinear(a, b, [3.0, 3.0, 3.0]));
+        // One ulp off the line is not collinear.
+        let off = [3.0, 3.0, f64::from_bits(3.0f64.to_bits() + 1)];
+        assert!(!are_collinear(a, b, off));
+        // The doubles nearest 0.1, 0.2, 0.3 (and 0.3, 0.6, 0.9) are not exactly on a line:
+        // the exact determinant is 2^-56.
+        assert!(!are_collinear(
+            [0.1, 0.3, 0.0],
+            [0.2, 0.6, 0.0],
+            [0.3, 0.9, 0.0]
+        ));
+        assert!(are_collinear(
+            [0.5, 0.25, 0.0],
+            [1.0, 0.5, 0.0],
+            [1e10, 5e9, 0.0]
+        ));
+    }
+
+    #[test]
+    fn classifies_faces() {
+        let positions = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(face_shape(&positions, &[0, 1, 3]), FaceShape::Proper);
+        assert_eq!(face_shape(&positions, &[0, 1, 2]), FaceShape::Collinear);
+        assert_eq!(
+            face_shape(&positions, &[0, 1, 1]),
+            FaceShape::RepeatedVertex
+        );
+        assert_eq!(face_shape(&positions, &[0, 1, 2, 3]), FaceShape::Proper);
+        assert_eq!(
+            face_shape(&positions, &[2, 1, 0, 1]),
+            FaceShape::RepeatedVertex
+        );
+    }
+
+    #[test]
+    fn counts_duplicates_in_any_orientation() {
+        let positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let mesh =
+            Mesh::from_triangles(positions, &[[0, 1, 2], [2, 1, 0], [1, 2, 0], [0, 1, 3]]).unwrap();
+        let counts = count_degenerate(&mesh);
+        assert_eq!(counts.duplicate, 2);
+        assert_eq!(counts.repeated_vertex + counts.collinear, 0);
+    }
+}

@@ -1,0 +1,503 @@
+//! Algorithm 3 (`design/ortho.md` §A5): faces with an outer loop and holes, from the vertices
+//! and their degrees alone.
+//!
+//! For each orientation o = (axis k, sign s), and each plane p[k] = c holding vertices:
+//! 1. **Frame.** (a, b) = (k+1, k+2) mod 3 for s = +, else (k+2, k+1), so CCW in (a, b) is CCW
+//!    seen from outside ([`Orientation::frame`]).
+//! 2. **Copies.** Each vertex on the plane contributes `deg_o` copies of (p[a], p[b]).
+//! 3. **Edges by pairing.** On each b-line, consecutive copies in a-order pair into a-edges;
+//!    likewise b-edges. An odd count on a line is an error. Zero-length pairs (the two copies
+//!    of a pass-through vertex on the line across the face) are discarded.
+//! 4. **Orientation by parity.** An edge's direction follows from the parity of the parallel
+//!    edges before it (interior on the left), swept with a XOR Fenwick tree.
+//! 5. **Linking.** At a position with two outgoing half-edges, continue straight if possible,
+//!    else turn left: the left turn hugs the occupied quadrant ("erosion semantics").
+//! 6. **Cycles.** A cycle is an outer loop (CCW) iff it leaves its lexicographically smallest
+//!    position along +a; otherwise it is a hole (CW).
+//! 7. **Holes.** Each hole belongs to the face of the nearest b-edge on the left of its
+//!    smallest position, found by an a-sweep over a "last writer wins" tree.
+//!
+//! Conventions fixed by the left-turn rule: two faces touching at a point are separate faces;
+//! a hole touching its outer boundary at one point merges into the outer loop, which becomes
+//! weakly simple and visits the pinch twice; two holes touching at a point make one loop.
+//!
+//! Invariant established: every loop edge is axis-parallel, loops alternate a- and b-edges
+//! except through pass-through vertices, and every 3D edge lies in 2 or 4 loops with
+//! cancelling directions (checked by the tests).
+//! Numeric model: ranks and comparisons only. Complexity: O(E log E) per plane, planes of one
+//! orientation in parallel.
+
+use rayon::prelude::*;
+
+use super::OrthoError;
+use super::materials::FaceCorner;
+use super::progress::{ProgressFn, Stage, Tracker};
+use super::sweep::RankVertex;
+
+/// The orientation of a face: its outward normal, one of the six axis directions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Orientation {
+    /// Outward normal +x.
+    PosX,
+    /// Outward normal −x.
+    NegX,
+    /// Outward normal +y.
+    PosY,
+    /// Outward normal −y.
+    NegY,
+    /// Outward normal +z.
+    PosZ,
+    /// Outward normal −z.
+    NegZ,
+}
+
+impl Orientation {
+    /// All six, in the degree order +x, −x, +y, −y, +z, −z.
+    pub const ALL: [Self; 6] = [
+        Self::PosX,
+        Self::NegX,
+        Self::PosY,
+        Self::NegY,
+        Self::PosZ,
+        Self::NegZ,
+    ];
+
+    /// The index in the degree order (+x, −x, +y, −y, +z, −z).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The normal's axis: 0, 1 or 2.
+    pub fn axis(self) -> usize {
+        self.index() / 2
+    }
+
+    /// True for +x, +y, +z.
+    pub fn is_positive(self) -> bool {
+        self.index() % 2 == 0
+    }
+
+    /// The in-plane axes (a, b) in which CCW is CCW as seen from outside the solid.
+    pub fn frame(self) -> (usize, usize) {
+        let k = self.axis();
+        if self.is_positive() {
+            ((k + 1) % 3, (k + 2) % 3)
+        } else {
+            ((k + 2) % 3, (k + 1) % 3)
+        }
+    }
+}
+
+/// A face loop before mapping to the B-rep: vertex indices in order.
+pub(crate) struct PlaneFace {
+    pub material: u32,
+    pub outer: Vec<u32>,
+    pub holes: Vec<Vec<u32>>,
+}
+
+/// One copy of a vertex on a face plane, in the face frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Copy2 {
+    plane: u32,
+    material: u32,
+    b: u32,
+    a: u32,
+    vertex: u32,
+}
+
+/// Steps 1–8 for every orientation: (orientation, faces) in orientation then plane order.
+///
+/// Without `corners`, each vertex's degrees count copies on material 0; with them, the copies
+/// are the given face corners, and faces are extracted per material as well.
+pub(crate) fn extract_faces(
+    vertices: &[RankVertex],
+    corners: Option<&[FaceCorner]>,
+    progress: Option<ProgressFn>,
+) -> Result<Vec<(Orientation, PlaneFace)>, OrthoError> {
+    let per_orientation: Vec<Vec<Copy2>> = Orientation::ALL
+        .par_iter()
+        .map(|&o| face_copies(vertices, corners, o))
+        .collect();
+    // Every (orientation, plane) is independent: one parallel task each, results in order.
+    let planes: Vec<(Orientation, &[Copy2])> = Orientation::ALL
+        .iter()
+        .zip(&per_orientation)
+        .flat_map(|(&o, copies)| {
+            copies
+                .chunk_by(|x, y| (x.plane, x.material) == (y.plane, y.material))
+                .map(move |p| (o, p))
+        })
+        .collect();
+    let tracker = Tracker::new(progress, Stage::Loops, planes.len());
+    let per_plane: Vec<Result<Vec<PlaneFace>, OrthoError>> = planes
+        .par_iter()
+        .map(|&(o, p)| {
+            if tracker.cancelled() {
+                return Err(OrthoError::Cancelled);
+            }
+            let faces = plane_faces(p, o);
+            tracker.tick();
+            faces
+        })
+        .collect();
+    let mut faces = Vec::new();
+    for ((o, _), result) in planes.iter().zip(per_plane) {
+        faces.extend(result?.into_iter().map(|f| (*o, f)));
+    }
+    Ok(faces)
+}
+
+/// Steps 1–2: the copies of every vertex for orientation `o`, sorted by
+/// (plane, material, b, a).
+fn face_copies(
+    vertices: &[RankVertex],
+    corners: Option<&[FaceCorner]>,
+    o: Orientation,
+) -> Vec<Copy2> {
+    let (k, (a, b)) = (o.axis(), o.frame());
+    let copy = |i: u32, material: u32| {
+        let r = vertices[i as usize].rank;
+        Copy2 {
+            plane: r[k],
+            material,
+            b: r[b],
+            a: r[a],
+            vertex: i,
+        }
+    };
+    let mut copies: Vec<Copy2> = match corners {
+        None => (0..vertices.len() as u32)
+            .flat_map(|i| {
+                let degree = vertices[i as usize].degrees[o.index()];
+                std::iter::repeat_n(copy(i, 0), degree.into())
+            })
+            .collect(),
+        Some(corners) => corners
+            .iter()
+            .filter(|c| usize::from(c.orientation) == o.index())
+            .flat_map(|c| std::iter::repeat_n(copy(c.vertex, c.material), c.degree.into()))
+            .collect(),
+    };
+    copies.sort_unstable();
+    copies
+}
+
+/// An edge on a line: `fixed` is the line's coordinate, `[lo, hi]` the span.
+#[derive(Clone, Copy, Debug)]
+struct LineEdge {
+    fixed: u32,
+    lo: u32,
+    hi: u32,
+    v_lo: u32,
+    v_hi: u32,
+}
+
+/// A directed boundary edge in the face frame. `dir`: 0 = +a, 1 = +b, 2 = −a, 3 = −b.
+#[derive(Clone, Copy, Debug)]
+struct HalfEdge {
+    from: (u32, u32),
+    to: (u32, u32),
+    dir: u8,
+    v_from: u32,
+}
+
+/// Steps 3–7 on one plane; `copies` are sorted by (b, a).
+fn plane_faces(copies: &[Copy2], o: Orientation) -> Result<Vec<PlaneFace>, OrthoError> {
+    let a_edges = pair_lines(copies.iter().map(|c| (c.b, c.a, c.vertex)), o)?;
+    let mut by_a: Vec<(u32, u32, u32)> = copies.iter().map(|c| (c.a, c.b, c.vertex)).collect();
+    by_a.sort_unstable();
+    let b_edges = pair_lines(by_a.into_iter(), o)?;
+    let mut half = Vec::with_capacity(a_edges.len() + b_edges.len());
+    for (e, odd) in a_edges.iter().zip(parities(&a_edges)) {
+        // Odd: interior below (−b side... of the a-line) ⇒ the edge runs −a.
+        let (lo, hi) = ((e.lo, e.fixed), (e.hi, e.fixed));
+        half.push(if odd {
+            HalfEdge {
+                from: hi,
+                to: lo,
+                dir: 2,
+                v_from: e.v_hi,
+            }
+        } else {
+            HalfEdge {
+                from: lo,
+                to: hi,
+                dir: 0,
+                v_from: e.v_lo,
+            }
+        });
+    }
+    for (e, odd) in b_edges.iter().zip(parities(&b_edges)) {
+        let (lo, hi) = ((e.fixed, e.lo), (e.fixed, e.hi));
+        half.push(if odd {
+            HalfEdge {
+                from: lo,
+                to: hi,
+                dir: 1,
+                v_from: e.v_lo,
+            }
+        } else {
+            HalfEdge {
+                from: hi,
+                to: lo,
+                dir: 3,
+                v_from: e.v_hi,
+            }
+        });
+    }
+    half.sort_unstable_by_key(|h| (h.from, h.dir));
+    let next = link(&half, o)?;
+    let cycles = cycles(&next);
+    let mut faces = assemble_faces(&half, &cycles, o)?;
+    faces
+        .iter_mut()
+        .for_each(|f| f.material = copies[0].material);
+    Ok(faces)
+}
+
+/// Step 3: pairs consecutive points `(line, along, vertex)` (sorted) on each line.
+fn pair_lines(
+    points: impl Iterator<Item = (u32, u32, u32)>,
+    o: Orientation,
+) -> Result<Vec<LineEdge>, OrthoError> {
+    let points: Vec<_> = points.collect();
+    let mut edges = Vec::with_capacity(points.len() / 2);
+    for line in points.chunk_by(|p, q| p.0 == q.0) {
+        if line.len() % 2 == 1 {
+            return Err(OrthoError::InconsistentDegrees {
+                orientation: o,
+                reason: "odd number of vertex copies on a line",
+            });
+        }
+        for pair in line.chunks_exact(2) {
+            if pair[0].1 != pair[1].1 {
+                edges.push(LineEdge {
+                    fixed: pair[0].0,
+                    lo: pair[0].1,
+                    hi: pair[1].1,
+                    v_lo: pair[0].2,
+                    v_hi: pair[1].2,
+                });
+            }
+        }
+    }
+    Ok(edges)
+}
+
+/// Step 4: for each edge (sorted by `fixed`), the parity of the edges with a smaller `fixed`
+/// whose span `[lo', hi')` contains its `lo`.
+fn parities(edges: &[LineEdge]) -> Vec<bool> {
+    let mut values: Vec<u32> = edges.iter().flat_map(|e| [e.lo, e.hi]).collect();
+    values.sort_unstable();
+    values.dedup();
+    let index = |v: u32| values.partition_point(|&x| x < v);
+    let mut fenwick = XorFenwick::new(values.len());
+    let mut out = Vec::with_capacity(edges.len());
+    for line in edges.chunk_by(|e, f| e.fixed == f.fixed) {
+        out.extend(line.iter().map(|e| fenwick.prefix(index(e.lo))));
+        for e in line {
+            fenwick.toggle(index(e.lo));
+            fenwick.toggle(index(e.hi));
+        }
+    }
+    out
+}
+
+/// A Fenwick tree of bits: toggle at a point, XOR of a prefix.
+struct XorFenwick(Vec<bool>);
+
+impl XorFenwick {
+    fn new(n: usize) -> Self {
+        Self(vec![false; n + 1])
+    }
+
+    fn toggle(&mut self, i: usize) {
+        let mut i = i + 1;
+        while i < self.0.len() {
+            self.0[i] ^= true;
+            i += i & i.wrapping_neg();
+        }
+    }
+
+    /// XOR of entries `0..=i`.
+    fn prefix(&self, i: usize) -> bool {
+        let (mut i, mut acc) = (i + 1, false);
+        while i > 0 {
+            acc ^= self.0[i];
+            i -= i & i.wrapping_neg();
+        }
+        acc
+    }
+}
+
+/// Step 5: the successor of every half-edge (`half` sorted by (from, dir)).
+fn link(half: &[HalfEdge], o: Orientation) -> Result<Vec<u32>, OrthoError> {
+    let mut used = vec![false; half.len()];
+    let mut next = Vec::with_capacity(half.len());
+    for h in half {
+        let start = half.partition_point(|g| g.from < h.to);
+        let end = half.partition_point(|g| g.from <= h.to);
+        let out = &half[start..end];
+        let pick = match out.len() {
+            1 => Some(0),
+            2 => [h.dir, (h.dir + 1) % 4]
+                .iter()
+                .find_map(|&d| out.iter().position(|g| g.dir == d)),
+            _ => None,
+        };
+        let Some(j) = pick.map(|p| start + p).filter(|&j| !used[j]) else {
+            return Err(OrthoError::InconsistentDegrees {
+                orientation: o,
+                reason: "a loop position cannot be linked",
+            });
+        };
+        used[j] = true;
+        next.push(j as u32);
+    }
+    Ok(next)
+}
+
+/// Step 6 (first half): the cycles of the successor permutation, in order of their first
+/// half-edge.
+fn cycles(next: &[u32]) -> Vec<Vec<u32>> {
+    let mut seen = vec![false; next.len()];
+    let mut out = Vec::new();
+    for s in 0..next.len() {
+        if seen[s] {
+            continue;
+        }
+        let mut cycle = Vec::new();
+        let mut h = s;
+        while !seen[h] {
+            seen[h] = true;
+            cycle.push(h as u32);
+            h = next[h] as usize;
+        }
+        out.push(cycle);
+    }
+    out
+}
+
+/// Steps 6–7: classifies the cycles, assigns each hole to its face and emits the faces.
+fn assemble_faces(
+    half: &[HalfEdge],
+    cycles: &[Vec<u32>],
+    o: Orientation,
+) -> Result<Vec<PlaneFace>, OrthoError> {
+    let mut cycle_of = vec![0u32; half.len()];
+    // Cycles start at their smallest half-edge, whose `from` is their smallest position
+    // because `half` is sorted by (from, dir).
+    let mut face_of: Vec<Option<usize>> = vec![None; cycles.len()];
+    let mut faces = Vec::new();
+    let mut holes = Vec::new();
+    for (c, cycle) in cycles.iter().enumerate() {
+        for &h in cycle {
+            cycle_of[h as usize] = c as u32;
+        }
+        let first = half[cycle[0] as usize];
+        let vertices = cycle.iter().map(|&h| half[h as usize].v_from).collect();
+        if first.dir == 0 {
+            face_of[c] = Some(faces.len());
+            faces.push(PlaneFace {
+                material: 0,
+                outer: vertices,
+                holes: Vec::new(),
+            });
+        } else {
+            holes.push((first.from, c, vertices));
+        }
+    }
+    let owners = hole_owners(half, &holes);
+    for ((_, c, vertices), owner) in holes.into_iter().zip(owners) {
+        let face = owner.and_then(|e| face_of[cycle_of[e] as usize]);
+        let Some(face) = face else {
+            return Err(OrthoError::InconsistentDegrees {
+                orientation: o,
+                reason: "a hole lies in no face",
+            });
+        };
+        face_of[c] = Some(face);
+        faces[face].holes.push(vertices);
+    }
+    Ok(faces)
+}
+
+/// Step 7: for each hole (given by its smallest position, sorted), the b-half-edge nearest on
+/// its left: the largest a < a_h whose span [b0, b1) holds b_h.
+fn hole_owners(half: &[HalfEdge], holes: &[((u32, u32), usize, Vec<u32>)]) -> Vec<Option<usize>> {
+    let mut bs: Vec<u32> = half.iter().flat_map(|h| [h.from.1, h.to.1]).collect();
+    bs.sort_unstable();
+    bs.dedup();
+    let index = |b: u32| bs.partition_point(|&x| x < b);
+    let mut b_edges: Vec<usize> = (0..half.len()).filter(|&h| half[h].dir % 2 == 1).collect();
+    b_edges.sort_by_key(|&h| half[h].from.0);
+    let mut order: Vec<usize> = (0..holes.len()).collect();
+    order.sort_by_key(|&i| holes[i].0);
+    let mut tree = LastWriter::new(bs.len());
+    let mut owners = vec![None; holes.len()];
+    let mut e = 0;
+    for i in order {
+        let (a_h, b_h) = holes[i].0;
+        while e < b_edges.len() && half[b_edges[e]].from.0 < a_h {
+            let h = half[b_edges[e]];
+            let (b0, b1) = (h.from.1.min(h.to.1), h.from.1.max(h.to.1));
+            tree.assign(index(b0), index(b1), b_edges[e]);
+            e += 1;
+        }
+        owners[i] = tree.query(index(b_h));
+    }
+    owners
+}
+
+/// Range assignment and point query, "last writer wins", by timestamps on the covering nodes.
+struct LastWriter {
+    leaves: usize,
+    nodes: Vec<(u32, usize)>,
+    time: u32,
+}
+
+impl LastWriter {
+    fn new(leaves: usize) -> Self {
+        Self {
+            leaves,
+            nodes: vec![(0, usize::MAX); 4 * leaves.max(1)],
+            time: 0,
+        }
+    }
+
+    fn assign(&mut self, l: usize, r: usize, value: usize) {
+        self.time += 1;
+        self.assign_at(1, 0, self.leaves, l, r, value);
+    }
+
+    fn assign_at(&mut self, node: usize, nl: usize, nr: usize, l: usize, r: usize, value: usize) {
+        if r <= nl || nr <= l || nl >= nr {
+            return;
+        }
+        if l <= nl && nr <= r {
+            self.nodes[node] = (self.time, value);
+            return;
+        }
+        let mid = (nl + nr) / 2;
+        self.assign_at(2 * node, nl, mid, l, r, value);
+        self.assign_at(2 * node + 1, mid, nr, l, r, value);
+    }
+
+    fn query(&self, i: usize) -> Option<usize> {
+        let (mut node, mut nl, mut nr) = (1, 0, self.leaves);
+        let mut best = (0, usize::MAX);
+        while nl < nr {
+            best = best.max(self.nodes[node]);
+            if nr - nl == 1 {
+                break;
+            }
+            let mid = (nl + nr) / 2;
+            if i < mid {
+                (node, nr) = (2 * node, mid);
+            } else {
+                (node, nl) = (2 * node + 1, mid);
+            }
+        }
+        (best.0 > 0).then_some(best.1)
+    }
+}

@@ -1,0 +1,182 @@
+//! A segment tree of rectangle coverage counts over elementary x-intervals.
+//!
+//! Leaf `i` is the elementary interval between the `i`-th and `(i+1)`-th distinct
+//! x-coordinate of a plane. Each node keeps `count` (rectangles covering the whole node),
+//! `full` (every leaf below is covered) and `any` (some leaf below is covered); a leaf is
+//! covered iff some node on its root path has a positive count (`design/ortho.md` §A3 step 1).
+//!
+//! Runs are maximal sequences of covered leaves, reported **unclipped** as half-open leaf
+//! ranges `[start, end)`, i.e. from x-point `start` to x-point `end`.
+//!
+//! Complexity: range update O(log m); the runs overlapping a query range cost
+//! O((1 + runs) log m).
+
+/// Coverage counts over `leaves` elementary intervals.
+pub(crate) struct Coverage {
+    leaves: usize,
+    count: Vec<i32>,
+    full: Vec<bool>,
+    any: Vec<bool>,
+}
+
+impl Coverage {
+    /// An uncovered tree over `leaves` elementary intervals.
+    pub(crate) fn new(leaves: usize) -> Self {
+        let size = 4 * leaves.max(1);
+        Self {
+            leaves,
+            count: vec![0; size],
+            full: vec![false; size],
+            any: vec![false; size],
+        }
+    }
+
+    /// Adds `delta` to the coverage of leaves `[l, r)`.
+    pub(crate) fn add(&mut self, l: usize, r: usize, delta: i32) {
+        if l < r {
+            self.update(1, 0, self.leaves, l, r, delta);
+        }
+    }
+
+    fn update(&mut self, node: usize, nl: usize, nr: usize, l: usize, r: usize, delta: i32) {
+        if r <= nl || nr <= l {
+            return;
+        }
+        if l <= nl && nr <= r {
+            self.count[node] += delta;
+        } else {
+            let mid = (nl + nr) / 2;
+            self.update(2 * node, nl, mid, l, r, delta);
+            self.update(2 * node + 1, mid, nr, l, r, delta);
+        }
+        self.pull(node, nr - nl == 1);
+    }
+
+    fn pull(&mut self, node: usize, leaf: bool) {
+        if self.count[node] > 0 {
+            self.full[node] = true;
+            self.any[node] = true;
+        } else if leaf {
+            self.full[node] = false;
+            self.any[node] = false;
+        } else {
+            self.full[node] = self.full[2 * node] && self.full[2 * node + 1];
+            self.any[node] = self.any[2 * node] || self.any[2 * node + 1];
+        }
+    }
+
+    /// The first leaf `>= i` that is covered (`want`) or uncovered (`!want`).
+    fn first_from(&self, i: usize, want: bool) -> Option<usize> {
+        self.find_first(1, 0, self.leaves, i, want)
+    }
+
+    fn find_first(&self, node: usize, nl: usize, nr: usize, i: usize, want: bool) -> Option<usize> {
+        if nr <= i || nl >= nr || (want && !self.any[node]) || (!want && self.full[node]) {
+            return None;
+        }
+        if self.count[node] > 0 {
+            // The whole node is covered; `want` is true here because `full` is.
+            return Some(nl.max(i));
+        }
+        if nr - nl == 1 {
+            return Some(nl);
+        }
+        let mid = (nl + nr) / 2;
+        self.find_first(2 * node, nl, mid, i, want)
+            .or_else(|| self.find_first(2 * node + 1, mid, nr, i, want))
+    }
+
+    /// The last leaf `< i` that is uncovered.
+    fn last_uncovered_before(&self, i: usize) -> Option<usize> {
+        self.find_last_uncovered(1, 0, self.leaves, i)
+    }
+
+    fn find_last_uncovered(&self, node: usize, nl: usize, nr: usize, i: usize) -> Option<usize> {
+        if nl >= i || nl >= nr || self.full[node] {
+            return None;
+        }
+        if nr - nl == 1 {
+            return Some(nl);
+        }
+        let mid = (nl + nr) / 2;
+        self.find_last_uncovered(2 * node + 1, mid, nr, i)
+            .or_else(|| self.find_last_uncovered(2 * node, nl, mid, i))
+    }
+
+    /// Appends to `out` the maximal covered runs that overlap leaves `[lo, hi)`, unclipped.
+    pub(crate) fn runs_overlapping(&self, lo: usize, hi: usize, out: &mut Vec<(u32, u32)>) {
+        let mut j = lo;
+        while let Some(s) = self.first_from(j, true) {
+            if s >= hi {
+                break;
+            }
+            let start = if s == lo {
+                self.last_uncovered_before(s).map_or(0, |u| u + 1)
+            } else {
+                s
+            };
+            let end = self.first_from(s, false).unwrap_or(self.leaves);
+            out.push((start as u32, end as u32));
+            j = end;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs by brute force from per-leaf counts.
+    fn brute_runs(counts: &[i32], lo: usize, hi: usize) -> Vec<(u32, u32)> {
+        let mut runs = Vec::new();
+        let mut i = 0;
+        while i < counts.len() {
+            if counts[i] > 0 {
+                let s = i;
+                while i < counts.len() && counts[i] > 0 {
+                    i += 1;
+                }
+                if s < hi && i > lo {
+                    runs.push((s as u32, i as u32));
+                }
+            } else {
+                i += 1;
+            }
+        }
+        runs
+    }
+
+    #[test]
+    fn runs_match_brute_force_under_random_updates() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |m: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % m) as usize
+        };
+        for leaves in 1..12 {
+            let mut tree = Coverage::new(leaves);
+            let mut counts = vec![0; leaves];
+            let mut added = Vec::new();
+            for _ in 0..200 {
+                if !added.is_empty() && next(3) == 0 {
+                    let (l, r) = added.swap_remove(next(added.len() as u64));
+                    tree.add(l, r, -1);
+                    counts[l..r].iter_mut().for_each(|c| *c -= 1);
+                } else {
+                    let l = next(leaves as u64);
+                    let r = l + 1 + next((leaves - l) as u64);
+                    tree.add(l, r, 1);
+                    counts[l..r].iter_mut().for_each(|c| *c += 1);
+                    added.push((l, r));
+                }
+                let lo = next(leaves as u64);
+                let hi = lo + 1 + next((leaves - lo) as u64);
+                let mut runs = Vec::new();
+                tree.runs_overlapping(lo, hi, &mut runs);
+                assert_eq!(runs, brute_runs(&counts, lo, hi), "{counts:?} [{lo},{hi})");
+            }
+        }
+    }
+}

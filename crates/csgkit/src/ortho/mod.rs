@@ -1,0 +1,397 @@
+//! The orthogonal engine: the exact boundary of a union of axis-aligned boxes.
+//!
+//! Implements the method of López Monterde, Martínez, Vigo and Pla, "A practical and robust
+//! method to compute the boundary of three-dimensional axis-aligned boxes", as specified and
+//! corrected in `design/ortho.md` (the design note beside the code is the reference).
+//!
+//! # Contract
+//! In: boxes `[x0, y0, z0, x1, y1, z1]` (f64, bounds of an axis in either order, any box
+//! order, duplicates allowed); boxes of zero thickness are dropped and counted, non-finite
+//! coordinates are an error. The solid is the regularised union (the closure of the union of
+//! the interiors).
+//! Out: a [`BRep`] — every boundary vertex with its octant code and six face degrees, and
+//! every maximal planar face with one CCW outer loop and its CW hole loops (CCW seen from
+//! outside) — which [`BRep::to_mesh`] turns into a closed, T-junction-free [`Mesh`](crate::Mesh).
+//!
+//! # Algorithm
+//! 1. Rank the coordinates of each axis (`grid`); from here to triangulation only ranks are
+//!    compared.
+//! 2. Sweep z-planes in parallel; on each, scan the slabs below and above at once and
+//!    classify every candidate point by its 8-bit octant code (`sweep`, `rect2d`, §A3–A4).
+//! 3. Link the vertices into loops per face plane and assign holes (`brep`, §A5).
+//! 4. Triangulate faces with holes without adding or dropping a boundary vertex, with exact
+//!    predicates (`triangulate`, §A6), and index vertices by exact position.
+//! 5. Optionally split non-manifold edges and vertices into a 2-manifold (`manifold`, §A6).
+//!
+//! # Variants and inputs
+//! - [`box_union_with_materials`] gives each face the material of the box behind it
+//!   (`materials`); [`box_union_per_material`] builds one solid per material.
+//! - [`box_union_timed`] reports stage times and progress, and can be cancelled (`progress`).
+//! - [`box_union_vertices`] gives the vertices under any [`DegreeConvention`], including the
+//!   paper's; [`rect_union_corners`] is the 2D algorithm alone.
+//! - [`parse_boxes`] reads the box text format, [`read_vox`] MagicaVoxel files.
+//!
+//! # Mesh output
+//! [`Mesh`](crate::Mesh) holds simple polygons only, so [`BRep::to_mesh`] writes a face without
+//! holes as one polygon and triangulates a face with holes (or a weakly simple outer loop);
+//! [`BRep`] itself is the polygon-with-holes representation, for writers that can hold holes.
+//!
+//! # Numeric model
+//! Steps 1–3 only compare input coordinates: they are exact for every finite f64. Step 4 uses
+//! the exact orientation predicates of `spade` (Shewchuk's, through `robust`) on the input
+//! coordinates and creates no coordinate; spade accepts absolute values up to 2^201 and
+//! nonzero ones down to 2^-142, and reports others as [`OrthoError::Triangulation`].
+//!
+//! # Complexity
+//! Σ_planes O(m_k log m_k + runs) for the sweep, O(E log E) for the loops, and the
+//! triangulation O(n log n) per face; the worst case is Θ(n³), the worst-case output size.
+
+mod boxes_text;
+mod brep;
+mod coverage;
+mod grid;
+mod manifold;
+mod materials;
+mod octant;
+mod progress;
+mod random;
+mod rect2d;
+mod sweep;
+mod triangulate;
+mod vox;
+
+pub use boxes_text::{BoxesTextError, parse_boxes};
+pub use brep::Orientation;
+pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
+pub use progress::{ProgressFn, Stage};
+pub use random::random_grid_boxes;
+pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
+pub use vox::{VoxBoxes, VoxOptions, read_vox};
+
+use grid::RankedBoxes;
+
+/// Why a box union failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum OrthoError {
+    /// A box has a NaN or infinite coordinate.
+    ///
+    /// *How to fix:* drop or repair the box; only finite coordinates describe a box.
+    #[error("box {index} has a non-finite coordinate")]
+    NonFinite {
+        /// The box's index in the input.
+        index: usize,
+    },
+    /// The vertex degrees do not describe a closed orthogonal boundary. The sweep never
+    /// produces this; it signals a broken invariant.
+    #[error("inconsistent vertex degrees on a {orientation:?} face plane: {reason}")]
+    InconsistentDegrees {
+        /// The face orientation being linked.
+        orientation: Orientation,
+        /// What went wrong.
+        reason: &'static str,
+    },
+    /// A `.vox` file is malformed.
+    #[error("malformed .vox data at byte {offset}: {reason}")]
+    Vox {
+        /// The byte offset in the file.
+        offset: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The material list does not have one entry per box.
+    #[error("{materials} materials given for {boxes} boxes")]
+    MaterialCount {
+        /// The number of boxes.
+        boxes: usize,
+        /// The number of materials.
+        materials: usize,
+    },
+    /// A [`BRep`] given to [`BRep::to_mesh`] breaks its invariants (its fields are public, so
+    /// a caller may have edited it).
+    #[error("invalid B-rep: {reason}")]
+    InvalidBRep {
+        /// The first broken invariant, from [`BRep::check_invariants`].
+        reason: String,
+    },
+    /// The progress callback asked to stop.
+    #[error("cancelled")]
+    Cancelled,
+    /// The triangulation of a face failed, e.g. for coordinates outside spade's range.
+    #[error("face {face} cannot be triangulated: {reason}")]
+    Triangulation {
+        /// The face's index in the B-rep.
+        face: usize,
+        /// What went wrong.
+        reason: String,
+    },
+}
+
+/// A boundary vertex of the union.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BRepVertex {
+    /// The position, made of input coordinates.
+    pub position: [f64; 3],
+    /// The octant code: bit `sx | sy << 1 | sz << 2` set iff that open octant is inside.
+    pub code: u8,
+    /// Face degrees in the order +x, −x, +y, −y, +z, −z (see [`DegreeConvention`]).
+    pub degrees: [u8; 6],
+}
+
+/// A maximal planar face of the boundary.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Face {
+    /// The outward normal.
+    pub orientation: Orientation,
+    /// The material of the solid behind the face (0 without materials).
+    pub material: u32,
+    /// Vertex indices of the outer loop, CCW seen from outside. It may be weakly simple,
+    /// visiting a pinch vertex twice (a hole touching the outer boundary at a point).
+    pub outer: Vec<u32>,
+    /// Vertex indices of each hole loop, CW seen from outside.
+    pub holes: Vec<Vec<u32>>,
+}
+
+/// The exact boundary representation of a union of boxes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BRep {
+    /// Boundary vertices, sorted by (z, y, x).
+    pub vertices: Vec<BRepVertex>,
+    /// Faces, by orientation (+x, −x, +y, −y, +z, −z), then plane.
+    pub faces: Vec<Face>,
+    /// Input boxes dropped for zero thickness.
+    pub dropped_boxes: usize,
+    /// Whether faces carry the materials of their boxes ([`box_union_with_materials`]).
+    pub has_materials: bool,
+}
+
+/// Computes the vertices of the union of `boxes` with their octant codes and degrees, sorted
+/// by (z, y, x): steps 1–2 of the module docs.
+///
+/// # Errors
+/// [`OrthoError::NonFinite`] naming the first box with a non-finite coordinate.
+pub fn box_union_vertices(
+    boxes: &[[f64; 6]],
+    convention: DegreeConvention,
+) -> Result<Vec<BRepVertex>, OrthoError> {
+    let ranked = RankedBoxes::new(boxes)?;
+    let tracker = progress::Tracker::new(None, Stage::Sweep, 0);
+    Ok(sweep::sweep_vertices(&ranked, convention, &tracker)
+        .into_iter()
+        .map(|v| BRepVertex {
+            position: ranked.position(v.rank),
+            code: v.code,
+            degrees: v.degrees,
+        })
+        .collect())
+}
+
+/// Computes the B-rep of the union of `boxes` (conforming degrees): steps 1–3.
+///
+/// # Errors
+/// [`OrthoError::NonFinite`] naming the first box with a non-finite coordinate.
+pub fn box_union(boxes: &[[f64; 6]]) -> Result<BRep, OrthoError> {
+    box_union_timed(boxes, None, None).map(|(brep, _)| brep)
+}
+
+/// Seconds spent in each stage of [`box_union_timed`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageSeconds {
+    /// Ranking the coordinates.
+    pub rank: f64,
+    /// The octant-code sweep (vertices and degrees).
+    pub sweep: f64,
+    /// Loop linking and hole assignment.
+    pub loops: f64,
+}
+
+/// [`box_union`] (`materials: None`) or [`box_union_with_materials`], with the time of each
+/// stage, reporting progress to `progress` (which may cancel the run by returning `false`).
+///
+/// # Errors
+/// As [`box_union_with_materials`], and [`OrthoError::Cancelled`] if `progress` stopped the
+/// run.
+pub fn box_union_timed(
+    boxes: &[[f64; 6]],
+    materials: Option<&[u32]>,
+    progress: Option<ProgressFn>,
+) -> Result<(BRep, StageSeconds), OrthoError> {
+    let clock = std::time::Instant::now();
+    let ranked = RankedBoxes::with_materials(boxes, materials)?;
+    let rank = clock.elapsed().as_secs_f64();
+    let tracker = progress::Tracker::new(progress, Stage::Sweep, ranked.coords[2].len());
+    let (vertices, corners) = match materials {
+        None => (
+            sweep::sweep_vertices(&ranked, DegreeConvention::Conforming, &tracker),
+            None,
+        ),
+        Some(_) => {
+            let (v, c) = materials::sweep_material_vertices(&ranked, &tracker);
+            (v, Some(c))
+        }
+    };
+    if tracker.cancelled() {
+        return Err(OrthoError::Cancelled);
+    }
+    let sweep = clock.elapsed().as_secs_f64() - rank;
+    let faces = brep::extract_faces(&vertices, corners.as_deref(), progress)?;
+    let brep = assemble(&ranked, &vertices, faces, materials.is_some());
+    let loops = clock.elapsed().as_secs_f64() - rank - sweep;
+    Ok((brep, StageSeconds { rank, sweep, loops }))
+}
+
+/// Computes the B-rep of the union of `boxes`, box `i` being made of material
+/// `materials[i]`: each face takes the material of the box behind it (the smallest id where
+/// boxes of different materials overlap), faces are maximal per material, and interfaces
+/// between materials inside the union are not faces (`materials` stage).
+///
+/// # Errors
+/// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if the lengths differ.
+pub fn box_union_with_materials(boxes: &[[f64; 6]], materials: &[u32]) -> Result<BRep, OrthoError> {
+    box_union_timed(boxes, Some(materials), None).map(|(brep, _)| brep)
+}
+
+/// Computes one B-rep per material, each the union of that material's boxes alone, in
+/// increasing material order: where two materials touch, both solids have a face, with
+/// opposite orientations.
+///
+/// # Errors
+/// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if the lengths differ.
+pub fn box_union_per_material(
+    boxes: &[[f64; 6]],
+    materials: &[u32],
+) -> Result<Vec<(u32, BRep)>, OrthoError> {
+    if materials.len() != boxes.len() {
+        return Err(OrthoError::MaterialCount {
+            boxes: boxes.len(),
+            materials: materials.len(),
+        });
+    }
+    let mut ids: Vec<u32> = materials.to_vec();
+    ids.sort_unstable();
+    ids.dedup();
+    ids.into_iter()
+        .map(|m| {
+            let own: Vec<[f64; 6]> = boxes
+                .iter()
+                .zip(materials)
+                .filter(|&(_, &b)| b == m)
+                .map(|(b, _)| *b)
+                .collect();
+            let mut brep = box_union(&own)?;
+            brep.has_materials = true;
+            brep.faces.iter_mut().for_each(|f| f.material = m);
+            Ok((m, brep))
+        })
+        .collect()
+}
+
+/// Maps ranks back to positions and builds the [`BRep`].
+fn assemble(
+    ranked: &RankedBoxes,
+    vertices: &[sweep::RankVertex],
+    faces: Vec<(Orientation, brep::PlaneFace)>,
+    has_materials: bool,
+) -> BRep {
+    let brep = BRep {
+        vertices: vertices
+            .iter()
+            .map(|v| BRepVertex {
+                position: ranked.position(v.rank),
+                code: v.code,
+                degrees: v.degrees,
+            })
+            .collect(),
+        faces: faces
+            .into_iter()
+            .map(|(orientation, f)| Face {
+                orientation,
+                material: f.material,
+                outer: f.outer,
+                holes: f.holes,
+            })
+            .collect(),
+        dropped_boxes: ranked.dropped,
+        has_materials,
+    };
+    debug_assert_eq!(brep.check_invariants(), Ok(()));
+    brep
+}
+
+/// A 2D corner record of a union of rectangles (§A3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RectCorner {
+    /// The corner's position.
+    pub position: [f64; 2],
+    /// The outward normals of its two boundary edges, as flags (+x, −x, +y, −y).
+    pub dirs: [bool; 4],
+}
+
+/// The corners of the union of rectangles `[x0, y0, x1, y1]`, in (y, x) order (§A3). A pinch
+/// point (two diagonal quadrants) gives two records.
+///
+/// # Errors
+/// [`OrthoError::NonFinite`] naming the first rectangle with a non-finite coordinate.
+pub fn rect_union_corners(rects: &[[f64; 4]]) -> Result<Vec<RectCorner>, OrthoError> {
+    let boxes: Vec<[f64; 6]> = rects
+        .iter()
+        .map(|r| [r[0], r[1], 0.0, r[2], r[3], 1.0])
+        .collect();
+    let ranked = RankedBoxes::new(&boxes)?;
+    let rects: Vec<rect2d::Rect> = ranked
+        .boxes
+        .iter()
+        .map(|b| rect2d::Rect {
+            x0: b[0],
+            x1: b[3],
+            y0: b[1],
+            y1: b[4],
+        })
+        .collect();
+    let mut out = Vec::new();
+    rect2d::plane_scan(&[], &rects, |x, y, code| {
+        let position = ranked.position([x, y, 0]);
+        for dirs in rect2d::corner_records(code >> 4) {
+            out.push(RectCorner {
+                position: [position[0], position[1]],
+                dirs,
+            });
+        }
+    });
+    Ok(out)
+}
+
+impl BRep {
+    /// Checks the structural invariants: every loop index is a vertex, every loop has at least
+    /// four positions and alternates axis-parallel edges lying in its face's plane.
+    ///
+    /// # Errors
+    /// A description of the first broken invariant.
+    pub fn check_invariants(&self) -> Result<(), String> {
+        for (f, face) in self.faces.iter().enumerate() {
+            let k = face.orientation.axis();
+            for lp in std::iter::once(&face.outer).chain(&face.holes) {
+                if lp.len() < 4 {
+                    return Err(format!("face {f} has a loop of {} positions", lp.len()));
+                }
+                let Some(p) = lp
+                    .iter()
+                    .map(|&v| self.vertices.get(v as usize))
+                    .collect::<Option<Vec<_>>>()
+                else {
+                    return Err(format!("face {f} refers to a missing vertex"));
+                };
+                for i in 0..p.len() {
+                    let (u, v) = (p[i].position, p[(i + 1) % p.len()].position);
+                    let differ = (0..3).filter(|&j| u[j] != v[j]).count();
+                    if u[k] != v[k] || differ != 1 {
+                        return Err(format!(
+                            "face {f} has a loop edge that is not axis-parallel in its plane"
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
