@@ -1,7 +1,10 @@
 //! Output as axis-aligned boxes (§B3.4): the input of the orthogonal engine.
 //!
 //! Each interval of a uniform tile is one box: the tile's footprint × `[z0, z1)`, and each
-//! interval of a brick sub-column is a one-column box. The boxes have pairwise disjoint
+//! interval of a brick sub-column is a one-column box. Boxes that abut along x with the same
+//! y and z ranges are then merged, and after that those abutting along y with the same x and
+//! z ranges (a sort and one linear pass each), which divides the count by about 3 on curved
+//! models and so speeds up the orthogonal engine. The boxes have pairwise disjoint
 //! interiors (tiles have disjoint footprints and a column's intervals are disjoint), so their
 //! total volume is the voxel count times `h³`, and their union is the solid. Coordinates are
 //! the lattice planes `fl(k·h)` (exact when `h` is dyadic).
@@ -27,7 +30,7 @@ impl Solid {
                 out.push([x, y, iv.z0, x + size, y + size, iv.z1]);
             }
         });
-        out
+        merge_abutting(merge_abutting(out, 0), 1)
     }
 
     /// The solid as world-space boxes `[xmin, ymin, zmin, xmax, ymax, zmax]`.
@@ -52,6 +55,25 @@ impl Solid {
         let brep = box_union(&self.to_boxes())?;
         Ok(brep.to_mesh(MeshOptions::default())?.mesh)
     }
+}
+
+/// Merges boxes that abut along `axis` and span the same ranges on the other two axes.
+///
+/// Interiors stay disjoint: a merged box is exactly the union of the boxes it replaces.
+fn merge_abutting(mut boxes: Vec<[i32; 6]>, axis: usize) -> Vec<[i32; 6]> {
+    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+    let cross = move |b: &[i32; 6]| [b[u], b[u + 3], b[v], b[v + 3]];
+    boxes.sort_unstable_by_key(|b| (cross(b), b[axis]));
+    let mut out: Vec<[i32; 6]> = Vec::with_capacity(boxes.len());
+    for b in boxes {
+        match out.last_mut() {
+            Some(last) if cross(last) == cross(&b) && last[axis + 3] == b[axis] => {
+                last[axis + 3] = b[axis + 3];
+            }
+            _ => out.push(b),
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -101,6 +123,14 @@ mod tests {
                 + a[2] * (b[0] * c[1] - b[1] * c[0]);
         }
         assert_eq!(six / 6.0, volume);
+        // Merging leaves fewer boxes than column intervals.
+        let mut intervals = 0;
+        solid.for_each_column(|_, _, _, c| intervals += c.intervals().len());
+        assert!(
+            boxes.len() < intervals * 2 / 3,
+            "{} boxes for {intervals} intervals",
+            boxes.len()
+        );
         // Interiors are disjoint: no two index boxes overlap.
         let ib = solid.to_index_boxes();
         for (n, a) in ib.iter().enumerate() {
