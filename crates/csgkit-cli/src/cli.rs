@@ -32,6 +32,13 @@ enum Command {
     Boxes(boxes::BoxesArgs),
     /// Runs the engine on built-in data and writes its outputs.
     Demo(demo::DemoArgs),
+    /// Booleans and voxelisation with the multi-scale depth-list engine.
+    #[command(
+        after_help = "Examples:\n  csgkit discrete voxelize bunny.obj -o bunny_vox.obj --cell 0.01 --stats\n  \
+                            csgkit discrete difference wall.stl@8 torus.obj@1 -o out.obj\n  \
+                            csgkit discrete demo"
+    )]
+    Discrete(commands::discrete::DiscreteArgs),
 }
 
 /// Parses the command line and runs the chosen subcommand.
@@ -42,5 +49,6 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Check(args) => commands::check::run(&args),
         Command::Boxes(args) => boxes::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Demo(args) => demo::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Discrete(args) => commands::discrete::run(&args),
     }
 }

@@ -18,6 +18,7 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod discrete;
 pub mod exact;
 mod index;
 pub mod io;

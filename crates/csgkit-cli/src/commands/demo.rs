@@ -1,7 +1,8 @@
 //! `csgkit demo`: runs the orthogonal engine on built-in data and writes the results.
 //!
 //! The data: 10 000 random integer boxes (fixed seed) and a level-2 Menger sponge of voxels
-//! coloured by depth. Outputs go to a folder (default `csgkit-demo`).
+//! coloured by depth; then the discrete engine's multi-scale showcase (a coarse wall minus a
+//! fine torus). Outputs go to a folder (default `csgkit-demo`).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -60,6 +61,8 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
         "menger_per_material.ply",
         &per_material_mesh(&solids, MeshOptions::default())?.mesh,
     )?;
+    let showcase = super::discrete::showcase()?;
+    write(args, "wall_minus_torus.obj", &showcase.to_mesh()?)?;
     println!("outputs written to {}", args.output.display());
     Ok(())
 }

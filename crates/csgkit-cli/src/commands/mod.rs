@@ -4,6 +4,7 @@
 pub mod boxes;
 pub mod check;
 pub mod demo;
+pub mod discrete;
 pub mod info;
 
 use std::path::Path;

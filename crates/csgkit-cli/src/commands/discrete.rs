@@ -1,0 +1,449 @@
+//! `csgkit discrete …`: the multi-scale depth-list engine from the command line.
+//!
+//! - `csgkit discrete union|intersection|difference|xor A[@CELL] B[@CELL] … -o OUT --cell H`
+//!   discretises each operand at its own cell size (cells must differ by powers of two; an
+//!   operand without `@CELL` takes `--cell`), then folds the operation over them
+//!   (`difference` is the first minus all others).
+//! - `csgkit discrete voxelize A -o OUT --cell H`: the voxels whose centre is inside.
+//! - `csgkit discrete demo [-o OUT]`: the paper's multi-scale showcase, a coarse wall minus a
+//!   fine torus, built in code.
+//!
+//! Output: `.txt` writes the disjoint boxes (`x0 y0 z0 x1 y1 z1` per line, the input format of
+//! `csgkit boxes`); any mesh format writes a closed mesh without T-junctions: by default the
+//! paper's unit surfels, or with `--mesh ortho` the orthogonal engine's maximal faces. `--stats` prints one
+//! JSON object on stdout with counts and seconds per stage; `op_seconds` covers
+//! discretisation, the booleans and the output conversion, without file I/O.
+
+use std::io::{IsTerminal, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use csgkit::Mesh;
+use csgkit::discrete::{
+    BoolOp, DiscretizeOptions, FillRule, Grid, Rounding, Solid, discretize_with_progress,
+};
+use serde_json::json;
+
+/// Arguments of `csgkit discrete`.
+#[derive(clap::Args, Debug)]
+pub struct DiscreteArgs {
+    #[command(subcommand)]
+    command: DiscreteCommand,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum DiscreteCommand {
+    /// Union of all operands.
+    #[command(after_help = "Example:\n  csgkit discrete union wall.stl@4 bunny.obj@0.5 -o out.obj")]
+    Union(OpArgs),
+    /// Intersection of all operands.
+    Intersection(OpArgs),
+    /// The first operand minus all others.
+    #[command(
+        after_help = "Example:\n  csgkit discrete difference wall.stl@8 torus.obj -o out.obj --cell 1"
+    )]
+    Difference(OpArgs),
+    /// Symmetric difference of all operands.
+    Xor(OpArgs),
+    /// The voxels whose centre is inside the mesh.
+    #[command(
+        after_help = "Example:\n  csgkit discrete voxelize bunny.obj -o bunny_vox.obj --cell 0.01 --stats"
+    )]
+    Voxelize(VoxelizeArgs),
+    /// A coarse wall minus a fine torus (Burguet & Malgouyres' showcase), built in code.
+    Demo(DemoArgs),
+}
+
+/// Options every discrete command shares.
+#[derive(clap::Args, Debug)]
+struct Common {
+    /// Output file: `.txt` for boxes, otherwise a mesh (OBJ, STL, PLY, OFF).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Cell size of operands given without `@CELL`.
+    #[arg(long)]
+    cell: Option<f64>,
+    /// Which winding numbers are inside.
+    #[arg(long, value_enum, default_value = "nonzero")]
+    fill: Fill,
+    /// How crossing depths round to voxels.
+    #[arg(long, value_enum, default_value = "centre")]
+    rounding: Round,
+    /// Print one JSON object with counts and timings on stdout.
+    #[arg(long)]
+    stats: bool,
+    /// No progress bar, even on a terminal.
+    #[arg(long)]
+    no_progress: bool,
+    /// How a mesh output is built. Unit surfels are the default because they are about 20×
+    /// faster to build at 10^5 boxes and more (the orthogonal engine took 53 s for the
+    /// armadillo at 1024³); `ortho` gives far fewer, maximal faces.
+    #[arg(long, value_enum, default_value = "surfels")]
+    mesh: MeshMode,
+}
+
+/// How the result becomes a mesh.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum MeshMode {
+    /// Boxes through the orthogonal engine: maximal faces with holes.
+    Ortho,
+    /// The paper's top, bottom and lateral surfels as unit quads.
+    Surfels,
+}
+
+#[derive(clap::Args, Debug)]
+struct OpArgs {
+    /// Operands, each `FILE` or `FILE@CELL`.
+    #[arg(required = true, num_args = 2..)]
+    operands: Vec<String>,
+    #[command(flatten)]
+    common: Common,
+}
+
+#[derive(clap::Args, Debug)]
+struct VoxelizeArgs {
+    /// The mesh, `FILE` or `FILE@CELL`.
+    input: String,
+    #[command(flatten)]
+    common: Common,
+}
+
+#[derive(clap::Args, Debug)]
+struct DemoArgs {
+    /// Where to write the result (`.txt` for boxes, otherwise a mesh); nothing is written
+    /// without it.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum Fill {
+    Nonzero,
+    Positive,
+    Parity,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum Round {
+    Centre,
+    Inner,
+    Outer,
+}
+
+/// Runs a discrete subcommand.
+pub fn run(args: &DiscreteArgs) -> anyhow::Result<ExitCode> {
+    match &args.command {
+        DiscreteCommand::Union(a) => run_op(&a.operands, &a.common, BoolOp::Union, "union"),
+        DiscreteCommand::Intersection(a) => {
+            run_op(&a.operands, &a.common, BoolOp::Intersection, "intersection")
+        }
+        DiscreteCommand::Difference(a) => {
+            run_op(&a.operands, &a.common, BoolOp::Difference, "difference")
+        }
+        DiscreteCommand::Xor(a) => run_op(&a.operands, &a.common, BoolOp::Xor, "xor"),
+        DiscreteCommand::Voxelize(a) => run_op(
+            std::slice::from_ref(&a.input),
+            &a.common,
+            BoolOp::Union,
+            "voxelize",
+        ),
+        DiscreteCommand::Demo(a) => run_demo(a),
+    }
+}
+
+/// An operand `FILE@CELL` split into its path and cell (the text after the last `@`, when it
+/// is a number).
+fn parse_operand(text: &str, default: Option<f64>) -> anyhow::Result<(PathBuf, f64)> {
+    if let Some((path, cell)) = text.rsplit_once('@')
+        && let Ok(cell) = cell.parse::<f64>()
+    {
+        return Ok((PathBuf::from(path), cell));
+    }
+    match default {
+        Some(cell) => Ok((PathBuf::from(text), cell)),
+        None => bail!("operand {text} has no cell size: give FILE@CELL or --cell"),
+    }
+}
+
+fn run_op(
+    operands: &[String],
+    common: &Common,
+    op: BoolOp,
+    name: &str,
+) -> anyhow::Result<ExitCode> {
+    let parsed = operands
+        .iter()
+        .map(|o| parse_operand(o, common.cell))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let cells: Vec<f64> = parsed.iter().map(|p| p.1).collect();
+    let (grid, levels) = Grid::for_cells(&cells).context("invalid cell sizes")?;
+    let t_read = Instant::now();
+    let meshes = parsed
+        .iter()
+        .map(|(path, _)| load(path))
+        .collect::<anyhow::Result<Vec<Mesh>>>()?;
+    let read_seconds = t_read.elapsed().as_secs_f64();
+    let options = DiscretizeOptions {
+        fill: match common.fill {
+            Fill::Nonzero => FillRule::NonZero,
+            Fill::Positive => FillRule::Positive,
+            Fill::Parity => FillRule::Parity,
+        },
+        rounding: match common.rounding {
+            Round::Centre => Rounding::Centre,
+            Round::Inner => Rounding::Inner,
+            Round::Outer => Rounding::Outer,
+        },
+    };
+    let t_op = Instant::now();
+    let mut solids = Vec::with_capacity(meshes.len());
+    for (n, mesh) in meshes.iter().enumerate() {
+        let label = parsed[n].0.display().to_string();
+        let bar = Progress::new(&label, common.no_progress);
+        let solid = discretize_with_progress(mesh, grid, levels[n], options, &|f| bar.report(f))
+            .with_context(|| format!("cannot discretise {label}"))?;
+        bar.finish();
+        solids.push(solid);
+    }
+    let discretize_seconds = t_op.elapsed().as_secs_f64();
+    let t_bool = Instant::now();
+    let result = Solid::op_all(&solids, op)?.expect("at least one operand");
+    let boolean_seconds = t_bool.elapsed().as_secs_f64();
+    let report = write_result(&result, &common.output, common.mesh)?;
+    if common.stats {
+        let inputs: Vec<_> = parsed
+            .iter()
+            .zip(&meshes)
+            .zip(&solids)
+            .map(|(((path, cell), mesh), solid)| {
+                json!({"file": path.display().to_string(), "cell": cell,
+                       "vertices": mesh.vertex_count(), "faces": mesh.face_count(),
+                       "voxels": solid.voxel_count()})
+            })
+            .collect();
+        let stats = json!({
+            "command": format!("discrete {name}"),
+            "inputs": inputs,
+            "cell": grid.h(),
+            "voxels": result.voxel_count(),
+            "tiles": tile_json(&result),
+            "output": report.json,
+            "read_seconds": read_seconds,
+            "discretize_seconds": discretize_seconds,
+            "boolean_seconds": boolean_seconds,
+            "convert_seconds": report.convert_seconds,
+            "write_seconds": report.write_seconds,
+            "op_seconds": discretize_seconds + boolean_seconds + report.convert_seconds,
+        });
+        println!("{stats}");
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn tile_json(s: &Solid) -> serde_json::Value {
+    let t = s.stats();
+    json!({"roots": t.roots, "uniform": t.uniform, "bricks": t.bricks, "splits": t.splits,
+           "entries": t.entries})
+}
+
+/// What writing the result produced.
+struct Written {
+    json: serde_json::Value,
+    convert_seconds: f64,
+    write_seconds: f64,
+}
+
+/// Writes boxes (`.txt`) or a mesh built as `mode` says to `path`.
+fn write_result(solid: &Solid, path: &Path, mode: MeshMode) -> anyhow::Result<Written> {
+    let t = Instant::now();
+    let is_boxes = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("txt"));
+    if is_boxes {
+        let boxes = solid.to_boxes();
+        let mut text = String::with_capacity(boxes.len() * 64);
+        for b in &boxes {
+            text.push_str(&format!(
+                "{} {} {} {} {} {}\n",
+                b[0], b[1], b[2], b[3], b[4], b[5]
+            ));
+        }
+        let convert_seconds = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        write_atomic(path, text.as_bytes())?;
+        return Ok(Written {
+            json: json!({"boxes": boxes.len()}),
+            convert_seconds,
+            write_seconds: t.elapsed().as_secs_f64(),
+        });
+    }
+    let mesh = match mode {
+        MeshMode::Ortho => solid.to_mesh().context("orthogonal engine failed")?,
+        MeshMode::Surfels => solid.to_surfel_mesh().context("surfel mesh too large")?,
+    };
+    let convert_seconds = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    csgkit::write_mesh(path, &mesh, csgkit::WriteOptions::default())
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(Written {
+        json: json!({"vertices": mesh.vertex_count(), "faces": mesh.face_count()}),
+        convert_seconds,
+        write_seconds: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// Writes to a temporary file beside `path`, then renames it over `path`.
+fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let temp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    std::fs::write(&temp, bytes)
+        .and_then(|()| std::fs::rename(&temp, path))
+        .inspect_err(|_| {
+            let _ = std::fs::remove_file(&temp);
+        })
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+fn load(path: &Path) -> anyhow::Result<Mesh> {
+    let loaded =
+        csgkit::io::read_mesh(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(loaded.mesh)
+}
+
+/// A one-line progress bar on stderr, shown only on a terminal.
+struct Progress {
+    label: String,
+    last: Mutex<Option<u32>>,
+    shown: bool,
+}
+
+impl Progress {
+    fn new(label: &str, disabled: bool) -> Self {
+        Self {
+            label: label.to_owned(),
+            last: Mutex::new(None),
+            shown: !disabled && std::io::stderr().is_terminal(),
+        }
+    }
+
+    /// Draws the bar at `fraction`; always asks to go on.
+    fn report(&self, fraction: f64) -> bool {
+        if !self.shown {
+            return true;
+        }
+        let percent = (fraction * 100.0).round() as u32;
+        let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
+        if *last != Some(percent) {
+            *last = Some(percent);
+            let filled = (percent / 5) as usize;
+            eprint!(
+                "\rdiscretising {} [{}{}] {percent:3}%",
+                self.label,
+                "#".repeat(filled),
+                " ".repeat(20 - filled)
+            );
+            let _ = std::io::stderr().flush();
+        }
+        true
+    }
+
+    fn finish(&self) {
+        if self.shown {
+            eprintln!();
+        }
+    }
+}
+
+/// `csgkit discrete demo`: the showcase, written to `-o` when given.
+fn run_demo(args: &DemoArgs) -> anyhow::Result<ExitCode> {
+    let result = showcase()?;
+    if let Some(path) = &args.output {
+        let written = write_result(&result, path, MeshMode::Ortho)?;
+        println!("  wrote {} ({})", path.display(), written.json);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The paper's multi-scale showcase, printed: an 8-cell wall minus a 1-cell torus in a 64
+/// box. Returns the result.
+pub fn showcase() -> anyhow::Result<Solid> {
+    let (grid, levels) = Grid::for_cells(&[8.0, 1.0])?;
+    let wall = box_mesh([8.0, 0.0, 0.0], [40.0, 64.0, 64.0]);
+    let torus = torus_mesh([24.0, 32.0, 32.0], 18.0, 5.0, 96, 32);
+    let options = DiscretizeOptions::default();
+    let t = Instant::now();
+    let coarse = csgkit::discrete::discretize(&wall, grid, levels[0], options)?;
+    let fine = csgkit::discrete::discretize(&torus, grid, levels[1], options)?;
+    let result = coarse.difference(&fine)?;
+    let seconds = t.elapsed().as_secs_f64();
+    let mut out = std::io::stdout().lock();
+    writeln!(
+        out,
+        "multi-scale showcase: wall (cell 8) minus torus (cell 1)"
+    )?;
+    for (name, s) in [
+        ("wall", &coarse),
+        ("torus", &fine),
+        ("wall - torus", &result),
+    ] {
+        let t = s.stats();
+        writeln!(
+            out,
+            "  {name:<13} {:>8} voxels  {:>5} uniform tiles  {:>5} bricks  {:>5} splits",
+            s.voxel_count(),
+            t.uniform,
+            t.bricks,
+            t.splits
+        )?;
+    }
+    writeln!(
+        out,
+        "  {seconds:.3} s; only the tiles the torus touches are refined"
+    )?;
+    Ok(result)
+}
+
+/// An axis-aligned box mesh, outward quads.
+fn box_mesh(lo: [f64; 3], hi: [f64; 3]) -> Mesh {
+    let p = |m: usize| [0, 1, 2].map(|d| if m >> d & 1 == 0 { lo[d] } else { hi[d] });
+    let quads: [[u32; 4]; 6] = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let tris: Vec<[u32; 3]> = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    Mesh::from_triangles((0..8).map(p).collect(), &tris).expect("indices are in range")
+}
+
+/// A torus around the z axis through `c`: radii `big` and `small`, `n × m` quads split in two.
+fn torus_mesh(c: [f64; 3], big: f64, small: f64, n: u32, m: u32) -> Mesh {
+    let tau = std::f64::consts::TAU;
+    let mut positions = Vec::with_capacity((n * m) as usize);
+    for i in 0..n {
+        let (su, cu) = (tau * f64::from(i) / f64::from(n)).sin_cos();
+        for j in 0..m {
+            let (sv, cv) = (tau * f64::from(j) / f64::from(m)).sin_cos();
+            let r = big + small * cv;
+            positions.push([c[0] + r * cu, c[1] + r * su, c[2] + small * sv]);
+        }
+    }
+    let id = |i: u32, j: u32| (i % n) * m + (j % m);
+    let mut tris = Vec::with_capacity((2 * n * m) as usize);
+    for i in 0..n {
+        for j in 0..m {
+            let (a, b, c2, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            tris.push([a, b, c2]);
+            tris.push([a, c2, d]);
+        }
+    }
+    Mesh::from_triangles(positions, &tris).expect("indices are in range")
+}
