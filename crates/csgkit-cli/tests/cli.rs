@@ -83,6 +83,21 @@ fn check_json_is_one_object_with_every_measure() {
     assert_eq!(json["genus"], 0);
     assert_eq!(json["volume"], 1.0);
     assert_eq!(json["format"], "OBJ (text)");
+    assert_eq!(json["selfint_pairs"], 0);
+}
+
+#[test]
+fn check_reports_self_intersecting_faces() {
+    // A vertical triangle piercing a horizontal one; the check counts pairs on any mesh.
+    let obj =
+        "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 0.5 0.5 -1\nv 0.5 0.5 1\nv 1.5 0.5 0\nf 1 2 3\nf 4 5 6\n";
+    let path = temp_file("selfint", "pierce.obj", obj);
+    let output = csgkit(&["check", "--json", path.to_str().expect("utf-8 temp path")]);
+    let json: serde_json::Value =
+        serde_json::from_slice(&output.stdout).expect("stdout is one JSON object");
+    assert_eq!(json["selfint_pairs"], 1);
+    assert_eq!(json["selfint_faces"], 2);
+    assert_eq!(json["selfint_first_pairs"], serde_json::json!([[0, 1]]));
 }
 
 #[test]

@@ -1,8 +1,9 @@
 //! `csgkit check FILE [--json]`: every validity check and measure of a mesh.
 //!
-//! Runs [`csgkit::mesh::analyze`] and prints a table, or with `--json` one JSON object with
-//! the file, its format and every field of [`csgkit::mesh::MeshReport`] (non-finite numbers
-//! as `null`). Exit status 0 when the mesh is a valid solid (closed and consistently oriented;
+//! Runs [`csgkit::mesh::analyze`] and the exact [`csgkit::self_intersections`] check, and
+//! prints a table, or with `--json` one JSON object with the file, its format, every field of
+//! [`csgkit::mesh::MeshReport`] (non-finite numbers as `null`) and the self-intersection
+//! counts (`selfint_pairs`, `selfint_faces`, and the first pairs in `selfint_first_pairs`). Exit status 0 when the mesh is a valid solid (closed and consistently oriented;
 //! non-manifold edges allowed), 1 when it is not; errors exit 2 through `main`.
 
 use std::fmt::Write as _;
@@ -10,6 +11,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use csgkit::SelfIntersections;
 use csgkit::mesh::MeshReport;
 
 use super::{describe_format, load, point};
@@ -29,11 +31,15 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
     let loaded = load(&args.file)?;
     let mut report = loaded.mesh.report();
     report.count_file_vertices(loaded.raw_vertex_count);
+    let crossings = csgkit::self_intersections(&loaded.mesh);
     let text = if args.json {
         let mut json = serde_json::to_value(&report)?;
         if let Some(object) = json.as_object_mut() {
             object.insert("file".into(), args.file.display().to_string().into());
             object.insert("format".into(), describe_format(&loaded).into());
+            object.insert("selfint_pairs".into(), crossings.pair_count().into());
+            object.insert("selfint_faces".into(), crossings.face_count().into());
+            object.insert("selfint_first_pairs".into(), first_pairs(&crossings).into());
         }
         format!("{json}\n")
     } else {
@@ -41,6 +47,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
             &args.file.display().to_string(),
             &describe_format(&loaded),
             &report,
+            &crossings,
         )?
     };
     std::io::stdout().lock().write_all(text.as_bytes())?;
@@ -52,7 +59,12 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// The human-readable report: one measure per line, then the verdict.
-fn table(file: &str, format: &str, r: &MeshReport) -> anyhow::Result<String> {
+fn table(
+    file: &str,
+    format: &str,
+    r: &MeshReport,
+    crossings: &SelfIntersections,
+) -> anyhow::Result<String> {
     let t = &r.topology;
     let yes = |b: bool| if b { "yes" } else { "no" };
     let genus = t
@@ -63,7 +75,7 @@ fn table(file: &str, format: &str, r: &MeshReport) -> anyhow::Result<String> {
     let bbox = r.measures.bbox.map_or("none".into(), |b| {
         format!("{} .. {}", point(b.min), point(b.max))
     });
-    let rows: [(&str, String); 26] = [
+    let rows: [(&str, String); 27] = [
         ("file", file.into()),
         ("format", format.into()),
         (
@@ -108,6 +120,7 @@ fn table(file: &str, format: &str, r: &MeshReport) -> anyhow::Result<String> {
             "faces left out",
             format!("{} (fewer than 3 distinct vertices)", t.excluded_faces),
         ),
+        ("self-intersections", self_intersection_summary(crossings)),
         ("volume", r.measures.volume.to_string()),
         ("area", r.measures.area.to_string()),
         ("bbox", bbox),
@@ -134,4 +147,34 @@ fn verdict(r: &MeshReport) -> String {
     } else {
         format!("no ({})", reasons.join(", "))
     }
+}
+
+/// How many face pairs of the first self-intersecting ones the report lists.
+const LISTED_PAIRS: usize = 5;
+
+/// The first intersecting face pairs, as `[face, face]` lists.
+fn first_pairs(crossings: &SelfIntersections) -> Vec<[u32; 2]> {
+    crossings
+        .pairs
+        .iter()
+        .take(LISTED_PAIRS)
+        .map(|(a, b)| [a.get(), b.get()])
+        .collect()
+}
+
+/// "none", or the counts and the first pairs.
+fn self_intersection_summary(crossings: &SelfIntersections) -> String {
+    if crossings.is_empty() {
+        return "none".into();
+    }
+    let listed: Vec<String> = first_pairs(crossings)
+        .iter()
+        .map(|[a, b]| format!("{a}-{b}"))
+        .collect();
+    format!(
+        "{} face pairs, {} faces (first pairs: {})",
+        crossings.pair_count(),
+        crossings.face_count(),
+        listed.join(", ")
+    )
 }
