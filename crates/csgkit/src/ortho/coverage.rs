@@ -14,9 +14,15 @@
 /// Coverage counts over `leaves` elementary intervals.
 pub(crate) struct Coverage {
     leaves: usize,
-    count: Vec<i32>,
-    full: Vec<bool>,
-    any: Vec<bool>,
+    /// The nodes, heap-ordered from 1; one array of structs so a visit touches one line.
+    nodes: Vec<Node>,
+}
+
+#[derive(Clone, Copy, Default)]
+struct Node {
+    count: i32,
+    full: bool,
+    any: bool,
 }
 
 impl Coverage {
@@ -25,9 +31,7 @@ impl Coverage {
         let size = 4 * leaves.max(1);
         Self {
             leaves,
-            count: vec![0; size],
-            full: vec![false; size],
-            any: vec![false; size],
+            nodes: vec![Node::default(); size],
         }
     }
 
@@ -43,7 +47,7 @@ impl Coverage {
             return;
         }
         if l <= nl && nr <= r {
-            self.count[node] += delta;
+            self.nodes[node].count += delta;
         } else {
             let mid = (nl + nr) / 2;
             self.update(2 * node, nl, mid, l, r, delta);
@@ -53,16 +57,15 @@ impl Coverage {
     }
 
     fn pull(&mut self, node: usize, leaf: bool) {
-        if self.count[node] > 0 {
-            self.full[node] = true;
-            self.any[node] = true;
+        let (full, any) = if self.nodes[node].count > 0 {
+            (true, true)
         } else if leaf {
-            self.full[node] = false;
-            self.any[node] = false;
+            (false, false)
         } else {
-            self.full[node] = self.full[2 * node] && self.full[2 * node + 1];
-            self.any[node] = self.any[2 * node] || self.any[2 * node + 1];
-        }
+            let (l, r) = (self.nodes[2 * node], self.nodes[2 * node + 1]);
+            (l.full && r.full, l.any || r.any)
+        };
+        (self.nodes[node].full, self.nodes[node].any) = (full, any);
     }
 
     /// The first leaf `>= i` that is covered (`want`) or uncovered (`!want`).
@@ -71,10 +74,11 @@ impl Coverage {
     }
 
     fn find_first(&self, node: usize, nl: usize, nr: usize, i: usize, want: bool) -> Option<usize> {
-        if nr <= i || nl >= nr || (want && !self.any[node]) || (!want && self.full[node]) {
+        let n = self.nodes[node];
+        if nr <= i || nl >= nr || (want && !n.any) || (!want && n.full) {
             return None;
         }
-        if self.count[node] > 0 {
+        if n.count > 0 {
             // The whole node is covered; `want` is true here because `full` is.
             return Some(nl.max(i));
         }
@@ -92,7 +96,7 @@ impl Coverage {
     }
 
     fn find_last_uncovered(&self, node: usize, nl: usize, nr: usize, i: usize) -> Option<usize> {
-        if nl >= i || nl >= nr || self.full[node] {
+        if nl >= i || nl >= nr || self.nodes[node].full {
             return None;
         }
         if nr - nl == 1 {
