@@ -109,20 +109,43 @@ impl Coverage {
 
     /// Appends to `out` the maximal covered runs that overlap leaves `[lo, hi)`, unclipped.
     pub(crate) fn runs_overlapping(&self, lo: usize, hi: usize, out: &mut Vec<(u32, u32)>) {
-        let mut j = lo;
-        while let Some(s) = self.first_from(j, true) {
-            if s >= hi {
-                break;
-            }
-            let start = if s == lo {
-                self.last_uncovered_before(s).map_or(0, |u| u + 1)
-            } else {
-                s
-            };
-            let end = self.first_from(s, false).unwrap_or(self.leaves);
-            out.push((start as u32, end as u32));
-            j = end;
+        let first = out.len();
+        self.covered_spans(1, 0, self.leaves, (lo, hi), first, out);
+        // Only the first and last runs can be clipped by the range: extend them outwards.
+        if let Some(run) = out.get_mut(first).filter(|r| r.0 as usize == lo) {
+            run.0 = self.last_uncovered_before(lo).map_or(0, |u| u + 1) as u32;
         }
+        if let Some(run) = out[first..].last_mut().filter(|r| r.1 as usize == hi) {
+            run.1 = self.first_from(hi, false).unwrap_or(self.leaves) as u32;
+        }
+    }
+
+    /// Appends the covered leaves of `range` below `node`, merging adjacent spans from
+    /// `out[first..]`: one descent for all runs instead of one per run end.
+    fn covered_spans(
+        &self,
+        node: usize,
+        nl: usize,
+        nr: usize,
+        range: (usize, usize),
+        first: usize,
+        out: &mut Vec<(u32, u32)>,
+    ) {
+        let n = self.nodes[node];
+        if nr <= range.0 || range.1 <= nl || nl >= nr || !n.any {
+            return;
+        }
+        if n.full {
+            let (s, e) = (nl.max(range.0) as u32, nr.min(range.1) as u32);
+            match out[first..].last_mut() {
+                Some(last) if last.1 == s => last.1 = e,
+                _ => out.push((s, e)),
+            }
+            return;
+        }
+        let mid = (nl + nr) / 2;
+        self.covered_spans(2 * node, nl, mid, range, first, out);
+        self.covered_spans(2 * node + 1, mid, nr, range, first, out);
     }
 }
 
