@@ -189,12 +189,13 @@ fn face_copies(
             quadrants,
         }
     };
-    let mut copies: Vec<Copy2> = match corners {
+    let quadrants: [u8; 256] = std::array::from_fn(|code| face_quadrants(code as u8, o));
+    let copies: Vec<Copy2> = match corners {
         None => (0..vertices.len() as u32)
             .flat_map(|i| {
                 let v = &vertices[i as usize];
                 let degree = v.degrees[o.index()];
-                let quadrants = face_quadrants(v.code, o);
+                let quadrants = quadrants[usize::from(v.code)];
                 std::iter::repeat_n(copy(i, 0, quadrants), degree.into())
             })
             .collect(),
@@ -206,8 +207,41 @@ fn face_copies(
             })
             .collect(),
     };
-    copies.par_sort_unstable_by_key(|c| c.key);
-    copies
+    sort_copies(copies)
+}
+
+/// Sorts copies by key: a stable counting sort by plane, then each plane in parallel. The
+/// copies come in vertex order, (z, y, x), which already is (b, a) order within a plane for
+/// +x, −y and +z, so half of the orientations only check their planes.
+fn sort_copies(copies: Vec<Copy2>) -> Vec<Copy2> {
+    let plane = |c: &Copy2| (c.key >> 96) as usize;
+    let planes = copies.iter().map(|c| plane(c) + 1).max().unwrap_or(0);
+    let mut start = vec![0usize; planes + 1];
+    for c in &copies {
+        start[plane(c) + 1] += 1;
+    }
+    for p in 0..planes {
+        start[p + 1] += start[p];
+    }
+    let mut fill = start.clone();
+    let mut sorted = copies.clone();
+    for c in copies {
+        sorted[fill[plane(&c)]] = c;
+        fill[plane(&c)] += 1;
+    }
+    let mut segments = Vec::with_capacity(planes);
+    let mut rest = &mut sorted[..];
+    for w in start.windows(2) {
+        let (segment, tail) = rest.split_at_mut(w[1] - w[0]);
+        segments.push(segment);
+        rest = tail;
+    }
+    segments.into_par_iter().for_each(|s| {
+        if !s.is_sorted_by_key(|c| c.key) {
+            s.sort_unstable_by_key(|c| c.key);
+        }
+    });
+    sorted
 }
 
 /// The quadrants (bit `sa | sb << 1` in the frame of `o`) around a vertex of octant code
