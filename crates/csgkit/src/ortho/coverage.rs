@@ -4,6 +4,8 @@
 //! x-coordinate of a plane. Each node keeps `count` (rectangles covering the whole node),
 //! `full` (every leaf below is covered) and `any` (some leaf below is covered); a leaf is
 //! covered iff some node on its root path has a positive count (`design/ortho.md` §A3 step 1).
+//! The leaves are padded to a power of two, so updates run bottom-up without recursion; the
+//! padding is never covered, so a run reaching it ends at leaf `leaves`.
 //!
 //! Runs are maximal sequences of covered leaves, reported **unclipped** as half-open leaf
 //! ranges `[start, end)`, i.e. from x-point `start` to x-point `end`.
@@ -14,6 +16,8 @@
 /// Coverage counts over `leaves` elementary intervals.
 pub(crate) struct Coverage {
     leaves: usize,
+    /// The padded leaf count, a power of two: leaf `i` is node `size + i`.
+    size: usize,
     /// The nodes, heap-ordered from 1; one array of structs so a visit touches one line.
     nodes: Vec<Node>,
 }
@@ -28,38 +32,48 @@ struct Node {
 impl Coverage {
     /// An uncovered tree over `leaves` elementary intervals.
     pub(crate) fn new(leaves: usize) -> Self {
-        let size = 4 * leaves.max(1);
+        let size = leaves.max(1).next_power_of_two();
         Self {
             leaves,
-            nodes: vec![Node::default(); size],
+            size,
+            nodes: vec![Node::default(); 2 * size],
         }
     }
 
     /// Adds `delta` to the coverage of leaves `[l, r)`.
     pub(crate) fn add(&mut self, l: usize, r: usize, delta: i32) {
-        if l < r {
-            self.update(1, 0, self.leaves, l, r, delta);
-        }
-    }
-
-    fn update(&mut self, node: usize, nl: usize, nr: usize, l: usize, r: usize, delta: i32) {
-        if r <= nl || nr <= l {
+        if l >= r {
             return;
         }
-        if l <= nl && nr <= r {
-            self.nodes[node].count += delta;
-        } else {
-            let mid = (nl + nr) / 2;
-            self.update(2 * node, nl, mid, l, r, delta);
-            self.update(2 * node + 1, mid, nr, l, r, delta);
+        let (first, last) = (self.size + l, self.size + r - 1);
+        // The canonical cover of [l, r): the nodes hanging off the two boundary paths.
+        let (mut lo, mut hi) = (first, last + 1);
+        while lo < hi {
+            if lo & 1 == 1 {
+                self.nodes[lo].count += delta;
+                self.pull(lo);
+                lo += 1;
+            }
+            if hi & 1 == 1 {
+                hi -= 1;
+                self.nodes[hi].count += delta;
+                self.pull(hi);
+            }
+            (lo, hi) = (lo >> 1, hi >> 1);
         }
-        self.pull(node, nr - nl == 1);
+        // Every ancestor of a changed node lies on a boundary path; refresh them bottom-up.
+        let (mut a, mut b) = (first >> 1, last >> 1);
+        while a > 0 {
+            self.pull(a);
+            self.pull(b);
+            (a, b) = (a >> 1, b >> 1);
+        }
     }
 
-    fn pull(&mut self, node: usize, leaf: bool) {
+    fn pull(&mut self, node: usize) {
         let (full, any) = if self.nodes[node].count > 0 {
             (true, true)
-        } else if leaf {
+        } else if node >= self.size {
             (false, false)
         } else {
             let (l, r) = (self.nodes[2 * node], self.nodes[2 * node + 1]);
@@ -70,7 +84,7 @@ impl Coverage {
 
     /// The first leaf `>= i` that is covered (`want`) or uncovered (`!want`).
     fn first_from(&self, i: usize, want: bool) -> Option<usize> {
-        self.find_first(1, 0, self.leaves, i, want)
+        self.find_first(1, 0, self.size, i, want)
     }
 
     fn find_first(&self, node: usize, nl: usize, nr: usize, i: usize, want: bool) -> Option<usize> {
@@ -92,7 +106,7 @@ impl Coverage {
 
     /// The last leaf `< i` that is uncovered.
     fn last_uncovered_before(&self, i: usize) -> Option<usize> {
-        self.find_last_uncovered(1, 0, self.leaves, i)
+        self.find_last_uncovered(1, 0, self.size, i)
     }
 
     fn find_last_uncovered(&self, node: usize, nl: usize, nr: usize, i: usize) -> Option<usize> {
@@ -110,7 +124,7 @@ impl Coverage {
     /// Appends to `out` the maximal covered runs that overlap leaves `[lo, hi)`, unclipped.
     pub(crate) fn runs_overlapping(&self, lo: usize, hi: usize, out: &mut Vec<(u32, u32)>) {
         let first = out.len();
-        self.covered_spans(1, 0, self.leaves, (lo, hi), first, out);
+        self.covered_spans(1, 0, self.size, (lo, hi), first, out);
         // Only the first and last runs can be clipped by the range: extend them outwards.
         if let Some(run) = out.get_mut(first).filter(|r| r.0 as usize == lo) {
             run.0 = self.last_uncovered_before(lo).map_or(0, |u| u + 1) as u32;
