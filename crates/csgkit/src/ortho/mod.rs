@@ -296,7 +296,7 @@ fn assemble(
 ) -> BRep {
     let brep = BRep {
         vertices: vertices
-            .iter()
+            .par_iter()
             .map(|v| BRepVertex {
                 position: ranked.position(v.rank),
                 code: v.code,
@@ -304,7 +304,7 @@ fn assemble(
             })
             .collect(),
         faces: faces
-            .into_iter()
+            .into_par_iter()
             .map(|(orientation, f)| Face {
                 orientation,
                 material: f.material,
