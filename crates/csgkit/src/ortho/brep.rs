@@ -301,7 +301,11 @@ fn plane_faces(copies: &[Copy2], o: Orientation) -> Result<Vec<PlaneFace>, Ortho
     }
     let (half, start) = sort_by_start(half, positions as usize + 1, o)?;
     let next = link(&half, &start, o)?;
-    let cycles = cycles(&next);
+    let (order, starts) = cycles(&next);
+    let cycles: Vec<&[u32]> = starts
+        .windows(2)
+        .map(|w| &order[w[0] as usize..w[1] as usize])
+        .collect();
     let mut faces = assemble_faces(&half, &cycles, o)?;
     faces
         .iter_mut()
@@ -446,30 +450,30 @@ fn link(half: &[HalfEdge], start: &[u32], o: Orientation) -> Result<Vec<u32>, Or
 }
 
 /// Step 6 (first half): the cycles of the successor permutation, in order of their first
-/// half-edge.
-fn cycles(next: &[u32]) -> Vec<Vec<u32>> {
+/// half-edge, concatenated (one buffer, not one per cycle), with each cycle's start and the
+/// end.
+fn cycles(next: &[u32]) -> (Vec<u32>, Vec<u32>) {
     let mut seen = vec![false; next.len()];
-    let mut out = Vec::new();
+    let (mut order, mut starts) = (Vec::with_capacity(next.len()), vec![0]);
     for s in 0..next.len() {
         if seen[s] {
             continue;
         }
-        let mut cycle = Vec::new();
         let mut h = s;
         while !seen[h] {
             seen[h] = true;
-            cycle.push(h as u32);
+            order.push(h as u32);
             h = next[h] as usize;
         }
-        out.push(cycle);
+        starts.push(order.len() as u32);
     }
-    out
+    (order, starts)
 }
 
 /// Steps 6–7: classifies the cycles, assigns each hole to its face and emits the faces.
 fn assemble_faces(
     half: &[HalfEdge],
-    cycles: &[Vec<u32>],
+    cycles: &[&[u32]],
     o: Orientation,
 ) -> Result<Vec<PlaneFace>, OrthoError> {
     let mut cycle_of = vec![0u32; half.len()];
@@ -479,7 +483,7 @@ fn assemble_faces(
     let mut faces = Vec::new();
     let mut holes = Vec::new();
     for (c, cycle) in cycles.iter().enumerate() {
-        for &h in cycle {
+        for &h in cycle.iter() {
             cycle_of[h as usize] = c as u32;
         }
         let first = half[cycle[0] as usize];
