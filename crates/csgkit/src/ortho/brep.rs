@@ -8,9 +8,13 @@
 //! 3. **Edges by pairing.** On each b-line, consecutive copies in a-order pair into a-edges;
 //!    likewise b-edges. An odd count on a line is an error. Zero-length pairs (the two copies
 //!    of a pass-through vertex on the line across the face) are discarded.
-//! 4. **Orientation by parity.** An edge's direction follows from the parity of the parallel
-//!    edges before it (interior on the left), swept with a XOR Fenwick tree.
-//! 5. **Linking.** At a position with two outgoing half-edges, continue straight if possible,
+//! 4. **Orientation from the quadrants.** Each copy carries the quadrants around its vertex
+//!    that the face covers (from the octant code, or from the material corner); an edge runs
+//!    so that the face lies on its left, which its lower end's quadrants on the edge's side
+//!    tell. (The paper sweeps the parity of the parallel edges instead: same answer, a
+//!    log factor and a sort more.)
+//! 5. **Linking.** Positions are numbered in (a, b) order and the half-edges counting-sorted
+//!    by start; at a position with two outgoing half-edges, continue straight if possible,
 //!    else turn left: the left turn hugs the occupied quadrant ("erosion semantics").
 //! 6. **Cycles.** A cycle is an outer loop (CCW) iff it leaves its lexicographically smallest
 //!    position along +a; otherwise it is a hole (CW).
@@ -96,13 +100,32 @@ pub(crate) struct PlaneFace {
 }
 
 /// One copy of a vertex on a face plane, in the face frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug)]
 struct Copy2 {
-    plane: u32,
-    material: u32,
-    b: u32,
-    a: u32,
+    /// (plane, material, b, a) packed high to low: sorting on it sorts the copies, and equal
+    /// keys mean the same corner (a position holds one vertex).
+    key: u128,
     vertex: u32,
+    /// The quadrants around the vertex covered by the face, bit `sa | sb << 1`.
+    quadrants: u8,
+}
+
+impl Copy2 {
+    fn plane_material(&self) -> u64 {
+        (self.key >> 64) as u64
+    }
+
+    fn material(&self) -> u32 {
+        (self.key >> 64) as u32
+    }
+
+    fn b(&self) -> u32 {
+        (self.key >> 32) as u32
+    }
+
+    fn a(&self) -> u32 {
+        self.key as u32
+    }
 }
 
 /// Steps 1–8 for every orientation: (orientation, faces) in orientation then plane order.
@@ -124,7 +147,7 @@ pub(crate) fn extract_faces(
         .zip(&per_orientation)
         .flat_map(|(&o, copies)| {
             copies
-                .chunk_by(|x, y| (x.plane, x.material) == (y.plane, y.material))
+                .chunk_by(|x, y| x.plane_material() == y.plane_material())
                 .map(move |p| (o, p))
         })
         .collect();
@@ -155,189 +178,258 @@ fn face_copies(
     o: Orientation,
 ) -> Vec<Copy2> {
     let (k, (a, b)) = (o.axis(), o.frame());
-    let copy = |i: u32, material: u32| {
+    let copy = |i: u32, material: u32, quadrants: u8| {
         let r = vertices[i as usize].rank;
+        let key = [r[k], material, r[b], r[a]]
+            .iter()
+            .fold(0u128, |key, &x| key << 32 | u128::from(x));
         Copy2 {
-            plane: r[k],
-            material,
-            b: r[b],
-            a: r[a],
+            key,
             vertex: i,
+            quadrants,
         }
     };
-    let mut copies: Vec<Copy2> = match corners {
+    let quadrants: [u8; 256] = std::array::from_fn(|code| face_quadrants(code as u8, o));
+    let copies: Vec<Copy2> = match corners {
         None => (0..vertices.len() as u32)
             .flat_map(|i| {
-                let degree = vertices[i as usize].degrees[o.index()];
-                std::iter::repeat_n(copy(i, 0), degree.into())
+                let v = &vertices[i as usize];
+                let degree = v.degrees[o.index()];
+                let quadrants = quadrants[usize::from(v.code)];
+                std::iter::repeat_n(copy(i, 0, quadrants), degree.into())
             })
             .collect(),
         Some(corners) => corners
             .iter()
             .filter(|c| usize::from(c.orientation) == o.index())
-            .flat_map(|c| std::iter::repeat_n(copy(c.vertex, c.material), c.degree.into()))
+            .flat_map(|c| {
+                std::iter::repeat_n(copy(c.vertex, c.material, c.quadrants), c.degree.into())
+            })
             .collect(),
     };
-    copies.sort_unstable();
-    copies
+    sort_copies(copies)
 }
 
-/// An edge on a line: `fixed` is the line's coordinate, `[lo, hi]` the span.
-#[derive(Clone, Copy, Debug)]
-struct LineEdge {
-    fixed: u32,
-    lo: u32,
-    hi: u32,
-    v_lo: u32,
-    v_hi: u32,
+/// Sorts copies by key: a stable counting sort by plane, then each plane in parallel. The
+/// copies come in vertex order, (z, y, x), which already is (b, a) order within a plane for
+/// +x, −y and +z, so half of the orientations only check their planes.
+fn sort_copies(copies: Vec<Copy2>) -> Vec<Copy2> {
+    let plane = |c: &Copy2| (c.key >> 96) as usize;
+    let planes = copies.iter().map(|c| plane(c) + 1).max().unwrap_or(0);
+    let mut start = vec![0usize; planes + 1];
+    for c in &copies {
+        start[plane(c) + 1] += 1;
+    }
+    for p in 0..planes {
+        start[p + 1] += start[p];
+    }
+    let mut fill = start.clone();
+    let mut sorted = copies.clone();
+    for c in copies {
+        sorted[fill[plane(&c)]] = c;
+        fill[plane(&c)] += 1;
+    }
+    let mut segments = Vec::with_capacity(planes);
+    let mut rest = &mut sorted[..];
+    for w in start.windows(2) {
+        let (segment, tail) = rest.split_at_mut(w[1] - w[0]);
+        segments.push(segment);
+        rest = tail;
+    }
+    segments.into_par_iter().for_each(|s| {
+        if !s.is_sorted_by_key(|c| c.key) {
+            s.sort_unstable_by_key(|c| c.key);
+        }
+    });
+    sorted
+}
+
+/// The quadrants (bit `sa | sb << 1` in the frame of `o`) around a vertex of octant code
+/// `code` that a face of orientation `o` covers: inside behind the plane, outside in front.
+fn face_quadrants(code: u8, o: Orientation) -> u8 {
+    let (k, (a, b)) = (o.axis(), o.frame());
+    let (inner, outer) = if o.is_positive() {
+        (0, 1 << k)
+    } else {
+        (1 << k, 0)
+    };
+    (0..4u8)
+        .filter(|&q| {
+            let s = usize::from(q & 1) << a | usize::from(q >> 1) << b;
+            code >> (s | inner) & 1 == 1 && code >> (s | outer) & 1 == 0
+        })
+        .fold(0, |mask, q| mask | 1 << q)
 }
 
 /// A directed boundary edge in the face frame. `dir`: 0 = +a, 1 = +b, 2 = −a, 3 = −b.
+/// `from_pos`/`to_pos` number the plane's positions in (a, b) order.
 #[derive(Clone, Copy, Debug)]
 struct HalfEdge {
     from: (u32, u32),
     to: (u32, u32),
+    from_pos: u32,
+    to_pos: u32,
     dir: u8,
     v_from: u32,
 }
 
 /// Steps 3–7 on one plane; `copies` are sorted by (b, a).
 fn plane_faces(copies: &[Copy2], o: Orientation) -> Result<Vec<PlaneFace>, OrthoError> {
-    let a_edges = pair_lines(copies.iter().map(|c| (c.b, c.a, c.vertex)), o)?;
-    let mut by_a: Vec<(u32, u32, u32)> = copies.iter().map(|c| (c.a, c.b, c.vertex)).collect();
+    // The copies in (a, b) order, and each copy's position number in that order.
+    let mut by_a: Vec<(u64, u32)> = (0..copies.len() as u32)
+        .map(|i| {
+            let c = &copies[i as usize];
+            (u64::from(c.a()) << 32 | u64::from(c.b()), i)
+        })
+        .collect();
     by_a.sort_unstable();
-    let b_edges = pair_lines(by_a.into_iter(), o)?;
+    let mut pos = vec![0u32; copies.len()];
+    let mut positions = 0u32;
+    for (j, &(key, i)) in by_a.iter().enumerate() {
+        if j > 0 && by_a[j - 1].0 != key {
+            positions += 1;
+        }
+        pos[i as usize] = positions;
+    }
+    let a_edges = pair_lines(0..copies.len() as u32, copies, Copy2::b, Copy2::a, o)?;
+    let b_edges = pair_lines(by_a.iter().map(|p| p.1), copies, Copy2::a, Copy2::b, o)?;
     let mut half = Vec::with_capacity(a_edges.len() + b_edges.len());
-    for (e, odd) in a_edges.iter().zip(parities(&a_edges)) {
-        // Odd: interior below (−b side... of the a-line) ⇒ the edge runs −a.
-        let (lo, hi) = ((e.lo, e.fixed), (e.hi, e.fixed));
-        half.push(if odd {
-            HalfEdge {
-                from: hi,
-                to: lo,
-                dir: 2,
-                v_from: e.v_hi,
-            }
-        } else {
-            HalfEdge {
-                from: lo,
-                to: hi,
-                dir: 0,
-                v_from: e.v_lo,
-            }
-        });
+    for (edges, along_b) in [(a_edges, false), (b_edges, true)] {
+        for (lo, hi) in edges {
+            half.push(half_edge(copies, &pos, lo, hi, along_b, o)?);
+        }
     }
-    for (e, odd) in b_edges.iter().zip(parities(&b_edges)) {
-        let (lo, hi) = ((e.fixed, e.lo), (e.fixed, e.hi));
-        half.push(if odd {
-            HalfEdge {
-                from: lo,
-                to: hi,
-                dir: 1,
-                v_from: e.v_lo,
-            }
-        } else {
-            HalfEdge {
-                from: hi,
-                to: lo,
-                dir: 3,
-                v_from: e.v_hi,
-            }
-        });
-    }
-    half.sort_unstable_by_key(|h| (h.from, h.dir));
-    let next = link(&half, o)?;
-    let cycles = cycles(&next);
+    let (half, start) = sort_by_start(half, positions as usize + 1, o)?;
+    let next = link(&half, &start, o)?;
+    let (order, starts) = cycles(&next);
+    let cycles: Vec<&[u32]> = starts
+        .windows(2)
+        .map(|w| &order[w[0] as usize..w[1] as usize])
+        .collect();
     let mut faces = assemble_faces(&half, &cycles, o)?;
     faces
         .iter_mut()
-        .for_each(|f| f.material = copies[0].material);
+        .for_each(|f| f.material = copies[0].material());
     Ok(faces)
 }
 
-/// Step 3: pairs consecutive points `(line, along, vertex)` (sorted) on each line.
+/// Step 3: pairs consecutive copies (indices into `copies`, sorted by `line` then `along`)
+/// on each line into edges `(lo, hi)`, dropping zero-length pairs.
 fn pair_lines(
-    points: impl Iterator<Item = (u32, u32, u32)>,
+    order: impl Iterator<Item = u32>,
+    copies: &[Copy2],
+    line: fn(&Copy2) -> u32,
+    along: fn(&Copy2) -> u32,
     o: Orientation,
-) -> Result<Vec<LineEdge>, OrthoError> {
-    let points: Vec<_> = points.collect();
-    let mut edges = Vec::with_capacity(points.len() / 2);
-    for line in points.chunk_by(|p, q| p.0 == q.0) {
-        if line.len() % 2 == 1 {
+) -> Result<Vec<(u32, u32)>, OrthoError> {
+    let odd = OrthoError::InconsistentDegrees {
+        orientation: o,
+        reason: "odd number of vertex copies on a line",
+    };
+    let mut edges = Vec::with_capacity(copies.len() / 2);
+    let mut open = None;
+    for i in order {
+        let Some(j) = open.take() else {
+            open = Some(i);
+            continue;
+        };
+        // A pair across two lines means the first line had an odd count.
+        let (p, q) = (&copies[j as usize], &copies[i as usize]);
+        if line(p) != line(q) {
+            return Err(odd);
+        }
+        if along(p) != along(q) {
+            edges.push((j, i));
+        }
+    }
+    match open {
+        Some(_) => Err(odd),
+        None => Ok(edges),
+    }
+}
+
+/// Step 4: the edge from copy `lo` to copy `hi` (along b or a), directed so that the face
+/// lies on its left: read from the quadrants the face covers at `lo` on the edge's side.
+fn half_edge(
+    copies: &[Copy2],
+    pos: &[u32],
+    lo: u32,
+    hi: u32,
+    along_b: bool,
+    o: Orientation,
+) -> Result<HalfEdge, OrthoError> {
+    let (l, h) = (&copies[lo as usize], &copies[hi as usize]);
+    // Quadrant bits beside the edge at `lo`: (forward when the face is there, backward).
+    let (fwd_bit, back_bit, dir) = if along_b { (2, 3, 1) } else { (3, 1, 0) };
+    let (fwd, back) = (
+        l.quadrants >> fwd_bit & 1 == 1,
+        l.quadrants >> back_bit & 1 == 1,
+    );
+    let ends = [(l, pos[lo as usize]), (h, pos[hi as usize])];
+    let ((f, fp), (t, tp)) = match (fwd, back) {
+        (true, false) => (ends[0], ends[1]),
+        (false, true) => (ends[1], ends[0]),
+        _ => {
             return Err(OrthoError::InconsistentDegrees {
                 orientation: o,
-                reason: "odd number of vertex copies on a line",
+                reason: "an edge has the face on both or neither side",
             });
         }
-        for pair in line.chunks_exact(2) {
-            if pair[0].1 != pair[1].1 {
-                edges.push(LineEdge {
-                    fixed: pair[0].0,
-                    lo: pair[0].1,
-                    hi: pair[1].1,
-                    v_lo: pair[0].2,
-                    v_hi: pair[1].2,
-                });
-            }
-        }
-    }
-    Ok(edges)
+    };
+    Ok(HalfEdge {
+        from: (f.a(), f.b()),
+        to: (t.a(), t.b()),
+        from_pos: fp,
+        to_pos: tp,
+        dir: if fwd { dir } else { dir + 2 },
+        v_from: f.vertex,
+    })
 }
 
-/// Step 4: for each edge (sorted by `fixed`), the parity of the edges with a smaller `fixed`
-/// whose span `[lo', hi')` contains its `lo`.
-fn parities(edges: &[LineEdge]) -> Vec<bool> {
-    let mut values: Vec<u32> = edges.iter().flat_map(|e| [e.lo, e.hi]).collect();
-    values.sort_unstable();
-    values.dedup();
-    let index = |v: u32| values.partition_point(|&x| x < v);
-    let mut fenwick = XorFenwick::new(values.len());
-    let mut out = Vec::with_capacity(edges.len());
-    for line in edges.chunk_by(|e, f| e.fixed == f.fixed) {
-        out.extend(line.iter().map(|e| fenwick.prefix(index(e.lo))));
-        for e in line {
-            fenwick.toggle(index(e.lo));
-            fenwick.toggle(index(e.hi));
+/// Sorts the half-edges by (from, dir) with a counting sort on the start position; also
+/// returns where each position's outgoing half-edges start (at most two each).
+fn sort_by_start(
+    half: Vec<HalfEdge>,
+    positions: usize,
+    o: Orientation,
+) -> Result<(Vec<HalfEdge>, Vec<u32>), OrthoError> {
+    let mut start = vec![0u32; positions + 1];
+    for h in &half {
+        start[h.from_pos as usize + 1] += 1;
+    }
+    if start.iter().any(|&c| c > 2) {
+        return Err(OrthoError::InconsistentDegrees {
+            orientation: o,
+            reason: "a loop position cannot be linked",
+        });
+    }
+    for p in 0..positions {
+        start[p + 1] += start[p];
+    }
+    let mut fill = start.clone();
+    let mut order = vec![0u32; half.len()];
+    for (i, h) in half.iter().enumerate() {
+        order[fill[h.from_pos as usize] as usize] = i as u32;
+        fill[h.from_pos as usize] += 1;
+    }
+    let mut sorted: Vec<HalfEdge> = order.iter().map(|&i| half[i as usize]).collect();
+    for p in 0..positions {
+        let s = start[p] as usize;
+        if start[p + 1] as usize == s + 2 && sorted[s].dir > sorted[s + 1].dir {
+            sorted.swap(s, s + 1);
         }
     }
-    out
+    Ok((sorted, start))
 }
 
-/// A Fenwick tree of bits: toggle at a point, XOR of a prefix.
-struct XorFenwick(Vec<bool>);
-
-impl XorFenwick {
-    fn new(n: usize) -> Self {
-        Self(vec![false; n + 1])
-    }
-
-    fn toggle(&mut self, i: usize) {
-        let mut i = i + 1;
-        while i < self.0.len() {
-            self.0[i] ^= true;
-            i += i & i.wrapping_neg();
-        }
-    }
-
-    /// XOR of entries `0..=i`.
-    fn prefix(&self, i: usize) -> bool {
-        let (mut i, mut acc) = (i + 1, false);
-        while i > 0 {
-            acc ^= self.0[i];
-            i -= i & i.wrapping_neg();
-        }
-        acc
-    }
-}
-
-/// Step 5: the successor of every half-edge (`half` sorted by (from, dir)).
-fn link(half: &[HalfEdge], o: Orientation) -> Result<Vec<u32>, OrthoError> {
+/// Step 5: the successor of every half-edge (`half` sorted by (from, dir), `start` indexing
+/// each position's outgoing half-edges).
+fn link(half: &[HalfEdge], start: &[u32], o: Orientation) -> Result<Vec<u32>, OrthoError> {
     let mut used = vec![false; half.len()];
     let mut next = Vec::with_capacity(half.len());
     for h in half {
-        let start = half.partition_point(|g| g.from < h.to);
-        let end = half.partition_point(|g| g.from <= h.to);
-        let out = &half[start..end];
+        let first = start[h.to_pos as usize] as usize;
+        let out = &half[first..start[h.to_pos as usize + 1] as usize];
         let pick = match out.len() {
             1 => Some(0),
             2 => [h.dir, (h.dir + 1) % 4]
@@ -345,7 +437,7 @@ fn link(half: &[HalfEdge], o: Orientation) -> Result<Vec<u32>, OrthoError> {
                 .find_map(|&d| out.iter().position(|g| g.dir == d)),
             _ => None,
         };
-        let Some(j) = pick.map(|p| start + p).filter(|&j| !used[j]) else {
+        let Some(j) = pick.map(|p| first + p).filter(|&j| !used[j]) else {
             return Err(OrthoError::InconsistentDegrees {
                 orientation: o,
                 reason: "a loop position cannot be linked",
@@ -358,30 +450,30 @@ fn link(half: &[HalfEdge], o: Orientation) -> Result<Vec<u32>, OrthoError> {
 }
 
 /// Step 6 (first half): the cycles of the successor permutation, in order of their first
-/// half-edge.
-fn cycles(next: &[u32]) -> Vec<Vec<u32>> {
+/// half-edge, concatenated (one buffer, not one per cycle), with each cycle's start and the
+/// end.
+fn cycles(next: &[u32]) -> (Vec<u32>, Vec<u32>) {
     let mut seen = vec![false; next.len()];
-    let mut out = Vec::new();
+    let (mut order, mut starts) = (Vec::with_capacity(next.len()), vec![0]);
     for s in 0..next.len() {
         if seen[s] {
             continue;
         }
-        let mut cycle = Vec::new();
         let mut h = s;
         while !seen[h] {
             seen[h] = true;
-            cycle.push(h as u32);
+            order.push(h as u32);
             h = next[h] as usize;
         }
-        out.push(cycle);
+        starts.push(order.len() as u32);
     }
-    out
+    (order, starts)
 }
 
 /// Steps 6–7: classifies the cycles, assigns each hole to its face and emits the faces.
 fn assemble_faces(
     half: &[HalfEdge],
-    cycles: &[Vec<u32>],
+    cycles: &[&[u32]],
     o: Orientation,
 ) -> Result<Vec<PlaneFace>, OrthoError> {
     let mut cycle_of = vec![0u32; half.len()];
@@ -391,7 +483,7 @@ fn assemble_faces(
     let mut faces = Vec::new();
     let mut holes = Vec::new();
     for (c, cycle) in cycles.iter().enumerate() {
-        for &h in cycle {
+        for &h in cycle.iter() {
             cycle_of[h as usize] = c as u32;
         }
         let first = half[cycle[0] as usize];

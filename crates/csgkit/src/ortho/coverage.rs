@@ -4,6 +4,8 @@
 //! x-coordinate of a plane. Each node keeps `count` (rectangles covering the whole node),
 //! `full` (every leaf below is covered) and `any` (some leaf below is covered); a leaf is
 //! covered iff some node on its root path has a positive count (`design/ortho.md` §A3 step 1).
+//! The leaves are padded to a power of two, so updates run bottom-up without recursion; the
+//! padding is never covered, so a run reaching it ends at leaf `leaves`.
 //!
 //! Runs are maximal sequences of covered leaves, reported **unclipped** as half-open leaf
 //! ranges `[start, end)`, i.e. from x-point `start` to x-point `end`.
@@ -14,67 +16,83 @@
 /// Coverage counts over `leaves` elementary intervals.
 pub(crate) struct Coverage {
     leaves: usize,
-    count: Vec<i32>,
-    full: Vec<bool>,
-    any: Vec<bool>,
+    /// The padded leaf count, a power of two: leaf `i` is node `size + i`.
+    size: usize,
+    /// The nodes, heap-ordered from 1; one array of structs so a visit touches one line.
+    nodes: Vec<Node>,
+}
+
+#[derive(Clone, Copy, Default)]
+struct Node {
+    count: i32,
+    full: bool,
+    any: bool,
 }
 
 impl Coverage {
     /// An uncovered tree over `leaves` elementary intervals.
     pub(crate) fn new(leaves: usize) -> Self {
-        let size = 4 * leaves.max(1);
+        let size = leaves.max(1).next_power_of_two();
         Self {
             leaves,
-            count: vec![0; size],
-            full: vec![false; size],
-            any: vec![false; size],
+            size,
+            nodes: vec![Node::default(); 2 * size],
         }
     }
 
     /// Adds `delta` to the coverage of leaves `[l, r)`.
     pub(crate) fn add(&mut self, l: usize, r: usize, delta: i32) {
-        if l < r {
-            self.update(1, 0, self.leaves, l, r, delta);
-        }
-    }
-
-    fn update(&mut self, node: usize, nl: usize, nr: usize, l: usize, r: usize, delta: i32) {
-        if r <= nl || nr <= l {
+        if l >= r {
             return;
         }
-        if l <= nl && nr <= r {
-            self.count[node] += delta;
-        } else {
-            let mid = (nl + nr) / 2;
-            self.update(2 * node, nl, mid, l, r, delta);
-            self.update(2 * node + 1, mid, nr, l, r, delta);
+        let (first, last) = (self.size + l, self.size + r - 1);
+        // The canonical cover of [l, r): the nodes hanging off the two boundary paths.
+        let (mut lo, mut hi) = (first, last + 1);
+        while lo < hi {
+            if lo & 1 == 1 {
+                self.nodes[lo].count += delta;
+                self.pull(lo);
+                lo += 1;
+            }
+            if hi & 1 == 1 {
+                hi -= 1;
+                self.nodes[hi].count += delta;
+                self.pull(hi);
+            }
+            (lo, hi) = (lo >> 1, hi >> 1);
         }
-        self.pull(node, nr - nl == 1);
+        // Every ancestor of a changed node lies on a boundary path; refresh them bottom-up.
+        let (mut a, mut b) = (first >> 1, last >> 1);
+        while a > 0 {
+            self.pull(a);
+            self.pull(b);
+            (a, b) = (a >> 1, b >> 1);
+        }
     }
 
-    fn pull(&mut self, node: usize, leaf: bool) {
-        if self.count[node] > 0 {
-            self.full[node] = true;
-            self.any[node] = true;
-        } else if leaf {
-            self.full[node] = false;
-            self.any[node] = false;
+    fn pull(&mut self, node: usize) {
+        let (full, any) = if self.nodes[node].count > 0 {
+            (true, true)
+        } else if node >= self.size {
+            (false, false)
         } else {
-            self.full[node] = self.full[2 * node] && self.full[2 * node + 1];
-            self.any[node] = self.any[2 * node] || self.any[2 * node + 1];
-        }
+            let (l, r) = (self.nodes[2 * node], self.nodes[2 * node + 1]);
+            (l.full && r.full, l.any || r.any)
+        };
+        (self.nodes[node].full, self.nodes[node].any) = (full, any);
     }
 
     /// The first leaf `>= i` that is covered (`want`) or uncovered (`!want`).
     fn first_from(&self, i: usize, want: bool) -> Option<usize> {
-        self.find_first(1, 0, self.leaves, i, want)
+        self.find_first(1, 0, self.size, i, want)
     }
 
     fn find_first(&self, node: usize, nl: usize, nr: usize, i: usize, want: bool) -> Option<usize> {
-        if nr <= i || nl >= nr || (want && !self.any[node]) || (!want && self.full[node]) {
+        let n = self.nodes[node];
+        if nr <= i || nl >= nr || (want && !n.any) || (!want && n.full) {
             return None;
         }
-        if self.count[node] > 0 {
+        if n.count > 0 {
             // The whole node is covered; `want` is true here because `full` is.
             return Some(nl.max(i));
         }
@@ -88,11 +106,11 @@ impl Coverage {
 
     /// The last leaf `< i` that is uncovered.
     fn last_uncovered_before(&self, i: usize) -> Option<usize> {
-        self.find_last_uncovered(1, 0, self.leaves, i)
+        self.find_last_uncovered(1, 0, self.size, i)
     }
 
     fn find_last_uncovered(&self, node: usize, nl: usize, nr: usize, i: usize) -> Option<usize> {
-        if nl >= i || nl >= nr || self.full[node] {
+        if nl >= i || nl >= nr || self.nodes[node].full {
             return None;
         }
         if nr - nl == 1 {
@@ -105,20 +123,43 @@ impl Coverage {
 
     /// Appends to `out` the maximal covered runs that overlap leaves `[lo, hi)`, unclipped.
     pub(crate) fn runs_overlapping(&self, lo: usize, hi: usize, out: &mut Vec<(u32, u32)>) {
-        let mut j = lo;
-        while let Some(s) = self.first_from(j, true) {
-            if s >= hi {
-                break;
-            }
-            let start = if s == lo {
-                self.last_uncovered_before(s).map_or(0, |u| u + 1)
-            } else {
-                s
-            };
-            let end = self.first_from(s, false).unwrap_or(self.leaves);
-            out.push((start as u32, end as u32));
-            j = end;
+        let first = out.len();
+        self.covered_spans(1, 0, self.size, (lo, hi), first, out);
+        // Only the first and last runs can be clipped by the range: extend them outwards.
+        if let Some(run) = out.get_mut(first).filter(|r| r.0 as usize == lo) {
+            run.0 = self.last_uncovered_before(lo).map_or(0, |u| u + 1) as u32;
         }
+        if let Some(run) = out[first..].last_mut().filter(|r| r.1 as usize == hi) {
+            run.1 = self.first_from(hi, false).unwrap_or(self.leaves) as u32;
+        }
+    }
+
+    /// Appends the covered leaves of `range` below `node`, merging adjacent spans from
+    /// `out[first..]`: one descent for all runs instead of one per run end.
+    fn covered_spans(
+        &self,
+        node: usize,
+        nl: usize,
+        nr: usize,
+        range: (usize, usize),
+        first: usize,
+        out: &mut Vec<(u32, u32)>,
+    ) {
+        let n = self.nodes[node];
+        if nr <= range.0 || range.1 <= nl || nl >= nr || !n.any {
+            return;
+        }
+        if n.full {
+            let (s, e) = (nl.max(range.0) as u32, nr.min(range.1) as u32);
+            match out[first..].last_mut() {
+                Some(last) if last.1 == s => last.1 = e,
+                _ => out.push((s, e)),
+            }
+            return;
+        }
+        let mid = (nl + nr) / 2;
+        self.covered_spans(2 * node, nl, mid, range, first, out);
+        self.covered_spans(2 * node + 1, mid, nr, range, first, out);
     }
 }
 

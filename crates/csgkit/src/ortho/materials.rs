@@ -37,6 +37,9 @@ pub(crate) struct FaceCorner {
     pub orientation: u8,
     pub material: u32,
     pub degree: u8,
+    /// The quadrants around the vertex covered by the face, bit `sa | sb << 1` in the face
+    /// frame: they orient the face's edges (`brep`).
+    pub quadrants: u8,
 }
 
 /// Every vertex of the material boundary (sorted by (z, y, x)) and its face corners.
@@ -162,11 +165,11 @@ fn face_corners(octants: &[u32; 8]) -> Vec<FaceCorner> {
             }
         }
     }
-    let classified: Vec<(u8, u32, u8, bool)> = quads
+    let classified: Vec<(u8, u32, u8, bool, u8)> = quads
         .into_iter()
         .map(|(o, m, q)| {
             let (mult, pass) = classify_quadrants(q);
-            (o, m, mult, pass)
+            (o, m, mult, pass, q)
         })
         .collect();
     if classified.iter().all(|c| c.2 == 0) {
@@ -174,12 +177,23 @@ fn face_corners(octants: &[u32; 8]) -> Vec<FaceCorner> {
     }
     classified
         .into_iter()
-        .map(|(orientation, material, mult, pass)| FaceCorner {
+        .map(|(orientation, material, mult, pass, q)| FaceCorner {
             vertex: 0,
             orientation,
             material,
             degree: mult + 2 * u8::from(pass),
+            quadrants: in_face_frame(q, orientation % 2 == 1),
         })
         .filter(|c| c.degree > 0)
         .collect()
+}
+
+/// A quadrant mask in the frame (k+1, k+2) as a mask in the face frame, which swaps the axes
+/// on negative faces ([`Orientation::frame`](super::Orientation::frame)).
+fn in_face_frame(q: u8, negative: bool) -> u8 {
+    if negative {
+        (q & 0b1001) | (q & 0b0010) << 1 | (q & 0b0100) >> 1
+    } else {
+        q
+    }
 }

@@ -69,6 +69,7 @@ pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
 pub use vox::{VoxBoxes, VoxOptions, read_vox};
 
 use grid::RankedBoxes;
+use rayon::prelude::*;
 
 /// Why a box union failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -295,7 +296,7 @@ fn assemble(
 ) -> BRep {
     let brep = BRep {
         vertices: vertices
-            .iter()
+            .par_iter()
             .map(|v| BRepVertex {
                 position: ranked.position(v.rank),
                 code: v.code,
@@ -303,7 +304,7 @@ fn assemble(
             })
             .collect(),
         faces: faces
-            .into_iter()
+            .into_par_iter()
             .map(|(orientation, f)| Face {
                 orientation,
                 material: f.material,
@@ -368,30 +369,39 @@ impl BRep {
     /// # Errors
     /// A description of the first broken invariant.
     pub fn check_invariants(&self) -> Result<(), String> {
-        for (f, face) in self.faces.iter().enumerate() {
-            let k = face.orientation.axis();
-            for lp in std::iter::once(&face.outer).chain(&face.holes) {
-                if lp.len() < 4 {
-                    return Err(format!("face {f} has a loop of {} positions", lp.len()));
+        // Faces are independent; `find_map_first` reports the first broken face.
+        match self
+            .faces
+            .par_iter()
+            .enumerate()
+            .find_map_first(|(f, face)| self.face_invariant(face).map(|e| format!("face {f} {e}")))
+        {
+            Some(reason) => Err(reason),
+            None => Ok(()),
+        }
+    }
+
+    /// The first broken invariant of one face, completing "face {f} …".
+    fn face_invariant(&self, face: &Face) -> Option<String> {
+        let k = face.orientation.axis();
+        for lp in std::iter::once(&face.outer).chain(&face.holes) {
+            if lp.len() < 4 {
+                return Some(format!("has a loop of {} positions", lp.len()));
+            }
+            if lp.iter().any(|&v| v as usize >= self.vertices.len()) {
+                return Some("refers to a missing vertex".into());
+            }
+            let position = |v: u32| self.vertices[v as usize].position;
+            let mut prev = position(lp[lp.len() - 1]);
+            for &v in lp {
+                let p = position(v);
+                let differ = (0..3).filter(|&j| p[j] != prev[j]).count();
+                if p[k] != prev[k] || differ != 1 {
+                    return Some("has a loop edge that is not axis-parallel in its plane".into());
                 }
-                let Some(p) = lp
-                    .iter()
-                    .map(|&v| self.vertices.get(v as usize))
-                    .collect::<Option<Vec<_>>>()
-                else {
-                    return Err(format!("face {f} refers to a missing vertex"));
-                };
-                for i in 0..p.len() {
-                    let (u, v) = (p[i].position, p[(i + 1) % p.len()].position);
-                    let differ = (0..3).filter(|&j| u[j] != v[j]).count();
-                    if u[k] != v[k] || differ != 1 {
-                        return Err(format!(
-                            "face {f} has a loop edge that is not axis-parallel in its plane"
-                        ));
-                    }
-                }
+                prev = p;
             }
         }
-        Ok(())
+        None
     }
 }

@@ -58,19 +58,16 @@ impl BRep {
         if options.manifold {
             return self.to_manifold_mesh();
         }
-        // Faces are independent: triangulate in parallel, concatenate in face order.
-        let per_face: Vec<Result<Vec<Vec<u32>>, OrthoError>> = (0..self.faces.len())
+        // Faces are independent: triangulate in parallel, concatenate in face order. `None`
+        // keeps the outer loop as the one polygon, without copying it.
+        let per_face: Vec<Result<Option<Vec<[u32; 3]>>, OrthoError>> = (0..self.faces.len())
             .into_par_iter()
             .map(|f| {
                 let face = &self.faces[f];
                 if !options.triangles && face.holes.is_empty() && is_simple(&face.outer) {
-                    Ok(vec![face.outer.clone()])
+                    Ok(None)
                 } else {
-                    Ok(self
-                        .triangulate_face(f)?
-                        .into_iter()
-                        .map(Vec::from)
-                        .collect())
+                    self.triangulate_face(f).map(Some)
                 }
             })
             .collect();
@@ -82,10 +79,14 @@ impl BRep {
                 operand: OperandId::new(0),
                 face: FaceId::new(f),
             };
-            for polygon in polygons? {
-                corners.extend_from_slice(&polygon);
+            let mut push = |polygon: &[u32]| {
+                corners.extend_from_slice(polygon);
                 starts.push(corners.len() as u32);
                 provenance.push(tag);
+            };
+            match polygons? {
+                Some(triangles) => triangles.iter().for_each(|t| push(t)),
+                None => push(&self.faces[f].outer),
             }
         }
         let all_triangles = starts.windows(2).all(|w| w[1] - w[0] == 3);
