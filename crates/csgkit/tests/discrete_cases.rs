@@ -17,23 +17,13 @@ use crate::util::{repo_data, shared_data};
 
 /// The parallelepiped `o + a·u + b·v + c·w`, `a, b, c ∈ [0, 1]`; `(u, v, w)` right-handed.
 fn parallelepiped(o: [f64; 3], u: [f64; 3], v: [f64; 3], w: [f64; 3]) -> Mesh {
-    let p = |m: usize| {
-        let (a, b, c) = ((m & 1) as f64, (m >> 1 & 1) as f64, (m >> 2 & 1) as f64);
-        [0, 1, 2].map(|d| o[d] + a * u[d] + b * v[d] + c * w[d])
-    };
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let tris: Vec<[u32; 3]> = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+    // The unit cube's corners are the coefficients (a, b, c) and its triangles wind outward.
+    let unit = cuboid([0.0; 3], [1.0; 3]);
+    let positions = (unit.positions().iter())
+        .map(|&[a, b, c]| [0, 1, 2].map(|d| o[d] + a * u[d] + b * v[d] + c * w[d]))
         .collect();
-    Mesh::from_triangles((0..8).map(p).collect(), &tris).unwrap()
+    let tris: Vec<[u32; 3]> = unit.fan_triangles().map(|(_, t)| t).collect();
+    Mesh::from_triangles(positions, &tris).unwrap()
 }
 
 fn octahedron(c: [f64; 3], r: f64) -> Mesh {
