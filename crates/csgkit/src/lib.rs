@@ -9,6 +9,9 @@
 //! - the orthogonal engine for unions of axis-aligned boxes;
 //! - the discrete engine for multi-scale depth-list solids.
 //!
+//! [`csg::primitives`] builds closed meshes of simple solids (cuboid, icosphere, torus,
+//! cylinder) in code.
+//!
 //! # API themes
 //! - Fallible functions return a typed error naming what is wrong and where; no input makes
 //!   the library panic.
@@ -18,6 +21,7 @@
 #![warn(missing_docs)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod csg;
 pub mod discrete;
 pub mod exact;
 mod index;

@@ -9,6 +9,7 @@
 use std::collections::BTreeSet;
 
 use csgkit::Mesh;
+use csgkit::csg::primitives::{cuboid, icosphere};
 use csgkit::discrete::{BoolOp, DiscretizeError, DiscretizeOptions, Grid, Solid, discretize};
 use robust::{Coord, orient2d};
 
@@ -16,32 +17,13 @@ use crate::util::{repo_data, shared_data};
 
 /// The parallelepiped `o + a·u + b·v + c·w`, `a, b, c ∈ [0, 1]`; `(u, v, w)` right-handed.
 fn parallelepiped(o: [f64; 3], u: [f64; 3], v: [f64; 3], w: [f64; 3]) -> Mesh {
-    let p = |m: usize| {
-        let (a, b, c) = ((m & 1) as f64, (m >> 1 & 1) as f64, (m >> 2 & 1) as f64);
-        [0, 1, 2].map(|d| o[d] + a * u[d] + b * v[d] + c * w[d])
-    };
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let tris: Vec<[u32; 3]> = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+    // The unit cube's corners are the coefficients (a, b, c) and its triangles wind outward.
+    let unit = cuboid([0.0; 3], [1.0; 3]);
+    let positions = (unit.positions().iter())
+        .map(|&[a, b, c]| [0, 1, 2].map(|d| o[d] + a * u[d] + b * v[d] + c * w[d]))
         .collect();
-    Mesh::from_triangles((0..8).map(p).collect(), &tris).unwrap()
-}
-
-fn cuboid(lo: [f64; 3], hi: [f64; 3]) -> Mesh {
-    parallelepiped(
-        lo,
-        [hi[0] - lo[0], 0.0, 0.0],
-        [0.0, hi[1] - lo[1], 0.0],
-        [0.0, 0.0, hi[2] - lo[2]],
-    )
+    let tris: Vec<[u32; 3]> = unit.fan_triangles().map(|(_, t)| t).collect();
+    Mesh::from_triangles(positions, &tris).unwrap()
 }
 
 fn octahedron(c: [f64; 3], r: f64) -> Mesh {
@@ -63,70 +45,6 @@ fn octahedron(c: [f64; 3], r: f64) -> Mesh {
             }
         }
     }
-    Mesh::from_triangles(positions, &tris).unwrap()
-}
-
-/// A subdivided icosahedron projected on the sphere of radius `r` around `c`.
-fn icosphere(c: [f64; 3], r: f64, subdivisions: u32) -> Mesh {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut pts: Vec<[f64; 3]> = vec![
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ];
-    let mut tris: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..subdivisions {
-        let mut mid = std::collections::HashMap::new();
-        let mut next = Vec::new();
-        for [a, b, c] in tris {
-            let mut m = |i: u32, j: u32| {
-                *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
-                    pts.push([0, 1, 2].map(|d| (pts[i as usize][d] + pts[j as usize][d]) / 2.0));
-                    pts.len() as u32 - 1
-                })
-            };
-            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        tris = next;
-    }
-    let positions = pts
-        .iter()
-        .map(|p| {
-            let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-            [0, 1, 2].map(|d| c[d] + r * p[d] / n)
-        })
-        .collect();
     Mesh::from_triangles(positions, &tris).unwrap()
 }
 

@@ -22,6 +22,7 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use csgkit::Mesh;
+use csgkit::csg::primitives::{cuboid, torus};
 use csgkit::discrete::{
     BoolOp, DiscretizeOptions, FillRule, Grid, Rounding, Solid, discretize_with_progress,
 };
@@ -371,8 +372,8 @@ fn run_demo(args: &DemoArgs) -> anyhow::Result<ExitCode> {
 /// box. Returns the result.
 pub fn showcase() -> anyhow::Result<Solid> {
     let (grid, levels) = Grid::for_cells(&[8.0, 1.0])?;
-    let wall = box_mesh([8.0, 0.0, 0.0], [40.0, 64.0, 64.0]);
-    let torus = torus_mesh([24.0, 32.0, 32.0], 18.0, 5.0, 96, 32);
+    let wall = cuboid([8.0, 0.0, 0.0], [40.0, 64.0, 64.0]);
+    let torus = torus([24.0, 32.0, 32.0], 18.0, 5.0, 96, 32);
     let options = DiscretizeOptions::default();
     let t = Instant::now();
     let coarse = csgkit::discrete::discretize(&wall, grid, levels[0], options)?;
@@ -404,46 +405,4 @@ pub fn showcase() -> anyhow::Result<Solid> {
         "  {seconds:.3} s; only the tiles the torus touches are refined"
     )?;
     Ok(result)
-}
-
-/// An axis-aligned box mesh, outward quads.
-fn box_mesh(lo: [f64; 3], hi: [f64; 3]) -> Mesh {
-    let p = |m: usize| [0, 1, 2].map(|d| if m >> d & 1 == 0 { lo[d] } else { hi[d] });
-    let quads: [[u32; 4]; 6] = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let tris: Vec<[u32; 3]> = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-        .collect();
-    Mesh::from_triangles((0..8).map(p).collect(), &tris).expect("indices are in range")
-}
-
-/// A torus around the z axis through `c`: radii `big` and `small`, `n × m` quads split in two.
-fn torus_mesh(c: [f64; 3], big: f64, small: f64, n: u32, m: u32) -> Mesh {
-    let tau = std::f64::consts::TAU;
-    let mut positions = Vec::with_capacity((n * m) as usize);
-    for i in 0..n {
-        let (su, cu) = (tau * f64::from(i) / f64::from(n)).sin_cos();
-        for j in 0..m {
-            let (sv, cv) = (tau * f64::from(j) / f64::from(m)).sin_cos();
-            let r = big + small * cv;
-            positions.push([c[0] + r * cu, c[1] + r * su, c[2] + small * sv]);
-        }
-    }
-    let id = |i: u32, j: u32| (i % n) * m + (j % m);
-    let mut tris = Vec::with_capacity((2 * n * m) as usize);
-    for i in 0..n {
-        for j in 0..m {
-            let (a, b, c2, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            tris.push([a, b, c2]);
-            tris.push([a, c2, d]);
-        }
-    }
-    Mesh::from_triangles(positions, &tris).expect("indices are in range")
 }

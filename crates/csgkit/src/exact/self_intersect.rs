@@ -4,7 +4,8 @@
 //! [`self_intersections`] reports the pairs of faces that intersect and the faces involved,
 //! with the semantics of libigl's CGAL-based `remesh_self_intersections` in detect-only mode
 //! (the reference measured in the shared data's `manifest.json`):
-//! - vertices with exactly equal positions are welded first (`-0.0` equals `0.0`);
+//! - vertices with exactly equal positions are welded first ([`weld_positions`]: `-0.0`
+//!   equals `0.0`);
 //! - polygons are fan-triangulated ([`Mesh::fan_triangles`]); exactly degenerate triangles
 //!   (collinear corners) are left out;
 //! - two triangles with no shared vertex count when they have any common point (touching
@@ -39,12 +40,11 @@
 //! The output is the same for every thread count.
 
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{Point, Point3, Sign, orient2d_projected, orient3d};
-use crate::mesh::{FaceId, Mesh};
+use crate::mesh::{FaceId, Mesh, weld_positions};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -99,15 +99,11 @@ pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
 /// The non-degenerate fan triangles of `mesh` with welded vertex ids, tagged with their face.
 fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
     let positions = mesh.positions();
-    let mut first: FxHashMap<[u64; 3], u32> = FxHashMap::default();
-    let weld: Vec<u32> = positions
-        .iter()
-        .enumerate()
-        .map(|(v, p)| {
-            // `+ 0.0` turns `-0.0` into `0.0`, so exactly equal positions weld.
-            let bits = p.map(|x| (x + 0.0).to_bits());
-            *first.entry(bits).or_insert(v as u32)
-        })
+    // Each vertex becomes the first vertex at its position (`-0.0` equals `0.0`), so the
+    // triangles keep input vertex ids and exactly equal positions share one.
+    let welding = weld_positions(positions);
+    let weld: Vec<u32> = (welding.remap.iter())
+        .map(|&w| welding.representatives[w as usize])
         .collect();
     mesh.fan_triangles()
         .filter_map(|(face, corners)| {

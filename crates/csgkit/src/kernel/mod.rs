@@ -98,6 +98,8 @@ mod orient;
 mod predicates;
 
 #[cfg(test)]
+pub(crate) mod oracle;
+#[cfg(test)]
 mod tests;
 
 pub use implicit::{Lpi, Point, Point3, Tpi};

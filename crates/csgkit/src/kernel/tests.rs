@@ -1,6 +1,6 @@
 //! The kernel against a big-rational oracle.
 //!
-//! The oracle shares no code with the kernel: it converts every f64 to an exact rational,
+//! The oracle (`oracle.rs`) shares no code with the kernel: it converts every f64 to an exact rational,
 //! computes implicit points as rational coordinates (an LPI by its line parameter, a TPI by
 //! Gaussian elimination), and evaluates the textbook determinants. Every predicate is checked
 //! through its public function and, where a formula exists, stage by stage (filter,
@@ -16,40 +16,13 @@ use std::cmp::Ordering;
 use std::fmt::Write as _;
 
 use num_bigint::BigInt;
-use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
+use super::oracle::{Q, Q3, oracle_lpi, oracle_point, oracle_tpi, q, q3, qcross, qdot, qsub};
 use super::predicates::{AxisDiff, Det3, Det4, Formula, PlaneSide, stages};
 use super::*;
-
-type Q = BigRational;
-type Q3 = [Q; 3];
-
-fn q(x: f64) -> Q {
-    Q::from_float(x).expect("finite")
-}
-
-fn q3(p: &Point3) -> Q3 {
-    p.map(q)
-}
-
-fn qsub(a: &Q3, b: &Q3) -> Q3 {
-    [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
-}
-
-fn qcross(a: &Q3, b: &Q3) -> Q3 {
-    [
-        &a[1] * &b[2] - &a[2] * &b[1],
-        &a[2] * &b[0] - &a[0] * &b[2],
-        &a[0] * &b[1] - &a[1] * &b[0],
-    ]
-}
-
-fn qdot(a: &Q3, b: &Q3) -> Q {
-    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
-}
 
 fn qsign(x: &Q) -> Sign {
     if x.is_zero() {
@@ -58,64 +31,6 @@ fn qsign(x: &Q) -> Sign {
         Sign::Positive
     } else {
         Sign::Negative
-    }
-}
-
-/// Plane `n · x = d` of a triangle, as rationals.
-fn qplane(tri: &[Point3; 3]) -> (Q3, Q) {
-    let [a, b, c] = tri.map(|p| q3(&p));
-    let n = qcross(&qsub(&b, &a), &qsub(&c, &a));
-    let d = qdot(&n, &a);
-    (n, d)
-}
-
-/// LPI by its line parameter; `None` when the line is parallel to the plane.
-fn oracle_lpi(p: &Point3, qq: &Point3, tri: &[Point3; 3]) -> Option<Q3> {
-    let (n, d) = qplane(tri);
-    let p = q3(p);
-    let dir = qsub(&q3(qq), &p);
-    let den = qdot(&n, &dir);
-    if den.is_zero() {
-        return None;
-    }
-    let lambda = (d - qdot(&n, &p)) / den;
-    Some([0, 1, 2].map(|i| &p[i] + &dir[i] * &lambda))
-}
-
-/// TPI by Gaussian elimination with partial pivoting on nonzero entries.
-fn oracle_tpi(planes: &[[Point3; 3]; 3]) -> Option<Q3> {
-    let mut m: Vec<Vec<Q>> = planes
-        .iter()
-        .map(|t| {
-            let (n, d) = qplane(t);
-            let [a, b, c] = n;
-            vec![a, b, c, d]
-        })
-        .collect();
-    for col in 0..3 {
-        let piv = (col..3).find(|&r| !m[r][col].is_zero())?;
-        m.swap(col, piv);
-        let pivot = m[col].clone();
-        for (r, row) in m.iter_mut().enumerate() {
-            if r != col && !row[col].is_zero() {
-                let f = &row[col] / &pivot[col];
-                for (x, p) in row.iter_mut().zip(&pivot).skip(col) {
-                    *x -= p * &f;
-                }
-            }
-        }
-    }
-    Some([0, 1, 2].map(|i| &m[i][3] / &m[i][i]))
-}
-
-fn oracle_point(p: &Point) -> Q3 {
-    match p {
-        Point::Explicit(p) => q3(p),
-        Point::Lpi(l) => {
-            let (a, b, tri) = l.definition();
-            oracle_lpi(&a, &b, &tri).expect("a built Lpi exists")
-        }
-        Point::Tpi(t) => oracle_tpi(t.planes()).expect("a built Tpi exists"),
     }
 }
 

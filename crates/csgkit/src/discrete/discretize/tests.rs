@@ -1,30 +1,6 @@
 use super::*;
+use crate::csg::primitives::cuboid;
 use crate::discrete::{Grid, Solid};
-
-/// The axis-aligned box `[lo, hi]`, 12 outward-facing triangles.
-fn cuboid(lo: [f64; 3], hi: [f64; 3]) -> Mesh {
-    let p = |m: usize| {
-        [
-            if m & 1 == 0 { lo[0] } else { hi[0] },
-            if m & 2 == 0 { lo[1] } else { hi[1] },
-            if m & 4 == 0 { lo[2] } else { hi[2] },
-        ]
-    };
-    let positions = (0..8).map(p).collect();
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let tris: Vec<[u32; 3]> = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-        .collect();
-    Mesh::from_triangles(positions, &tris).unwrap()
-}
 
 fn concat(a: &Mesh, b: &Mesh) -> Mesh {
     let mut positions = a.positions().to_vec();

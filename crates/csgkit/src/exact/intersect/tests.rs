@@ -2,70 +2,11 @@
 //! triangle `a` by the plane of `b` and by the three side planes of `b`'s edges in exact
 //! rational arithmetic, and compare the kind of the result and its points.
 
-use num_rational::BigRational;
 use num_traits::{Signed, Zero};
 use proptest::prelude::*;
 
 use super::*;
-use crate::kernel::Point;
-
-type Q = BigRational;
-type Q3 = [Q; 3];
-
-fn q(x: f64) -> Q {
-    Q::from_float(x).expect("finite")
-}
-
-fn q3(p: Point3) -> Q3 {
-    p.map(q)
-}
-
-fn qsub(a: &Q3, b: &Q3) -> Q3 {
-    [&a[0] - &b[0], &a[1] - &b[1], &a[2] - &b[2]]
-}
-
-fn qcross(a: &Q3, b: &Q3) -> Q3 {
-    [
-        &a[1] * &b[2] - &a[2] * &b[1],
-        &a[2] * &b[0] - &a[0] * &b[2],
-        &a[0] * &b[1] - &a[1] * &b[0],
-    ]
-}
-
-fn qdot(a: &Q3, b: &Q3) -> Q {
-    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
-}
-
-fn qnormal(t: &[Q3; 3]) -> Q3 {
-    qcross(&qsub(&t[1], &t[0]), &qsub(&t[2], &t[0]))
-}
-
-/// The exact coordinates of a kernel point.
-fn rational(p: &Point) -> Q3 {
-    match p {
-        Point::Explicit(x) => q3(*x),
-        Point::Lpi(l) => {
-            let (p, qq, tri) = l.definition();
-            let (p, qq, tri) = (q3(p), q3(qq), tri.map(q3));
-            let n = qnormal(&tri);
-            let dir = qsub(&qq, &p);
-            let lambda = qdot(&n, &qsub(&tri[0], &p)) / qdot(&n, &dir);
-            [0, 1, 2].map(|i| &p[i] + &dir[i] * &lambda)
-        }
-        Point::Tpi(t) => {
-            let planes = t.planes().map(|pl| pl.map(q3));
-            let n = planes.each_ref().map(qnormal);
-            let d = [0, 1, 2].map(|i| qdot(&n[i], &planes[i][0]));
-            let w = qdot(&n[0], &qcross(&n[1], &n[2]));
-            let c = [
-                qcross(&n[1], &n[2]),
-                qcross(&n[2], &n[0]),
-                qcross(&n[0], &n[1]),
-            ];
-            [0, 1, 2].map(|k| (&d[0] * &c[0][k] + &d[1] * &c[1][k] + &d[2] * &c[2][k]) / &w)
-        }
-    }
-}
+use crate::kernel::oracle::{Q, Q3, oracle_point, q3, qcross, qdot, qnormal, qsub};
 
 /// Sutherland–Hodgman: the part of `poly` where `g >= 0`.
 fn clip(poly: &[Q3], g: &dyn Fn(&Q3) -> Q) -> Vec<Q3> {
@@ -95,7 +36,7 @@ enum Kind {
 
 /// The oracle: the kind and the distinct corner points of `a ∩ b`.
 fn oracle(a: &[Point3; 3], b: &[Point3; 3]) -> (Kind, Vec<Q3>) {
-    let (ta, tb) = (a.map(q3), b.map(q3));
+    let (ta, tb) = (a.each_ref().map(q3), b.each_ref().map(q3));
     let (na, nb) = (qnormal(&ta), qnormal(&tb));
     let side = |n: &Q3, o: &Q3, x: &Q3| qdot(n, &qsub(x, o));
     let sa: Vec<Q> = ta.iter().map(|x| side(&nb, &tb[0], x)).collect();
@@ -184,7 +125,7 @@ fn check(a: [Point3; 3], b: [Point3; 3], ids_b: [u32; 3]) -> Result<(), TestCase
             result
         );
         for c in contacts {
-            let p = rational(&c.point);
+            let p = oracle_point(&c.point);
             prop_assert!(
                 expected.contains(&p),
                 "{:?} {:?}: point {:?} not in oracle",
@@ -192,8 +133,8 @@ fn check(a: [Point3; 3], b: [Point3; 3], ids_b: [u32; 3]) -> Result<(), TestCase
                 pb,
                 c
             );
-            prop_assert_eq!(Some(c.on_a), rational_feature(&p, &pa.map(q3)));
-            prop_assert_eq!(Some(c.on_b), rational_feature(&p, &pb.map(q3)));
+            prop_assert_eq!(Some(c.on_a), rational_feature(&p, &pa.each_ref().map(q3)));
+            prop_assert_eq!(Some(c.on_b), rational_feature(&p, &pb.each_ref().map(q3)));
         }
     }
     Ok(())
