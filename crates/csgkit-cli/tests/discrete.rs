@@ -18,7 +18,7 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 #[test]
-fn voxelize_writes_a_closed_surfel_mesh_and_stats() {
+fn voxelize_writes_maximal_faces_or_surfels_and_stats() {
     let dir = temp_dir("voxelize");
     let out = dir.join("cube_vox.obj");
     let run = csgkit()
@@ -26,7 +26,7 @@ fn voxelize_writes_a_closed_surfel_mesh_and_stats() {
         .arg(repo_cube())
         .arg("-o")
         .arg(&out)
-        .args(["--cell", "0.125", "--stats"])
+        .args(["--cell", "0.125", "--stats", "--mesh", "surfels"])
         .output()
         .unwrap();
     assert!(
@@ -40,13 +40,13 @@ fn voxelize_writes_a_closed_surfel_mesh_and_stats() {
     // 8³ voxels: 6·64 unit quads.
     let mesh = csgkit::io::read_mesh(&out).unwrap().mesh;
     assert_eq!(mesh.face_count(), 6 * 64);
-    // Through the orthogonal engine: one maximal face per side.
+    // By default through the orthogonal engine: one maximal face per side.
     let ortho = csgkit()
         .args(["discrete", "voxelize"])
         .arg(repo_cube())
         .arg("-o")
         .arg(&out)
-        .args(["--cell", "0.125", "--mesh", "ortho"])
+        .args(["--cell", "0.125"])
         .output()
         .unwrap();
     assert!(
