@@ -19,13 +19,11 @@
 //! With one material this gives exactly the vertices and faces of the plain sweep (tested).
 //! Complexity: the plain sweep's, times the number of materials present on a plane.
 
-use rayon::prelude::*;
-
 use super::grid::RankedBoxes;
 use super::octant::{DegreeConvention, OCTANT_TABLE, classify_quadrants};
 use super::progress::Tracker;
 use super::rect2d::{Rect, scan_layers};
-use super::sweep::RankVertex;
+use super::sweep::{RankVertex, for_each_plane};
 
 /// An octant with no material.
 const EMPTY: u32 = u32::MAX;
@@ -49,19 +47,7 @@ pub(crate) fn sweep_material_vertices(
 ) -> (Vec<RankVertex>, Vec<FaceCorner>) {
     let slabs = material_slabs(boxes);
     let planes = boxes.coords[2].len();
-    let per_plane: Vec<Vec<(RankVertex, Vec<FaceCorner>)>> = (0..planes)
-        .into_par_iter()
-        .map(|k| {
-            if tracker.cancelled() {
-                return Vec::new();
-            }
-            let below = if k > 0 { &slabs[k - 1][..] } else { &[][..] };
-            let above = slabs.get(k).map_or(&[][..], |s| &s[..]);
-            let vertices = plane_vertices(below, above, k as u32);
-            tracker.tick();
-            vertices
-        })
-        .collect();
+    let per_plane = for_each_plane(&slabs, planes, tracker, plane_vertices);
     let mut vertices = Vec::new();
     let mut corners = Vec::new();
     for (v, mut c) in per_plane.into_iter().flatten() {

@@ -49,7 +49,22 @@ pub(crate) fn sweep_vertices(
 ) -> Vec<RankVertex> {
     let slabs = slab_rects(boxes);
     let planes = boxes.coords[2].len();
-    let per_plane: Vec<Vec<RankVertex>> = (0..planes)
+    for_each_plane(&slabs, planes, tracker, |below, above, k| {
+        plane_vertices(below, above, k, convention)
+    })
+    .concat()
+}
+
+/// Runs `plane` on every z-plane in parallel with the slabs just below and just above it
+/// (empty beyond the ends), in plane order; each plane ticks `tracker`, and once it is
+/// cancelled the remaining planes give nothing.
+pub(crate) fn for_each_plane<S: Sync, T: Send>(
+    slabs: &[Vec<S>],
+    planes: usize,
+    tracker: &Tracker,
+    plane: impl Fn(&[S], &[S], u32) -> Vec<T> + Sync,
+) -> Vec<Vec<T>> {
+    (0..planes)
         .into_par_iter()
         .map(|k| {
             if tracker.cancelled() {
@@ -57,12 +72,11 @@ pub(crate) fn sweep_vertices(
             }
             let below = if k > 0 { &slabs[k - 1][..] } else { &[][..] };
             let above = slabs.get(k).map_or(&[][..], |s| &s[..]);
-            let vertices = plane_vertices(below, above, k as u32, convention);
+            let vertices = plane(below, above, k as u32);
             tracker.tick();
             vertices
         })
-        .collect();
-    per_plane.concat()
+        .collect()
 }
 
 /// Step 2: the rectangles spanning each slab `k` (between planes k and k+1).
