@@ -5,7 +5,7 @@
 //! (`../shared/data/voxels`, or `$CSGKIT_SHARED_DATA/voxels`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use csgkit::ortho::{MeshOptions, VoxOptions, box_union, random_grid_boxes, read_vox};
+use csgkit::ortho::{MeshOptions, MeshOutput, VoxOptions, box_union, random_grid_boxes, read_vox};
 
 fn random_boxes(c: &mut Criterion) {
     let mut group = c.benchmark_group("ortho");
@@ -16,12 +16,7 @@ fn random_boxes(c: &mut Criterion) {
             b.iter(|| box_union(boxes).unwrap())
         });
         group.bench_with_input(BenchmarkId::new("mesh/random", n), &boxes, |b, boxes| {
-            b.iter(|| {
-                box_union(boxes)
-                    .unwrap()
-                    .to_mesh(MeshOptions::default())
-                    .unwrap()
-            })
+            b.iter(|| union_mesh(boxes))
         });
     }
     group.finish();
@@ -56,14 +51,7 @@ fn vox_models(c: &mut Criterion) {
         group.bench_with_input(
             BenchmarkId::new("mesh/vox", name),
             &read.boxes,
-            |b, boxes| {
-                b.iter(|| {
-                    box_union(boxes)
-                        .unwrap()
-                        .to_mesh(MeshOptions::default())
-                        .unwrap()
-                })
-            },
+            |b, boxes| b.iter(|| union_mesh(boxes)),
         );
     }
     group.finish();
@@ -71,3 +59,11 @@ fn vox_models(c: &mut Criterion) {
 
 criterion_group!(benches, random_boxes, vox_models);
 criterion_main!(benches);
+
+/// The whole engine: boxes to B-rep to the default shared-vertex mesh.
+fn union_mesh(boxes: &[[f64; 6]]) -> MeshOutput {
+    box_union(boxes)
+        .expect("benchmark boxes are valid")
+        .to_mesh(MeshOptions::default())
+        .expect("benchmark unions fit a mesh")
+}

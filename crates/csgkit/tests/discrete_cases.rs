@@ -276,12 +276,7 @@ fn mixed_resolution_booleans_equal_voxel_set_operations() {
     .unwrap();
     let (va, vb) = (voxel_set(&a), voxel_set(&b));
     assert!(!va.is_empty() && !vb.is_empty());
-    for op in [
-        BoolOp::Union,
-        BoolOp::Intersection,
-        BoolOp::Difference,
-        BoolOp::Xor,
-    ] {
+    for op in BoolOp::ALL {
         let r = a.op(&b, op).unwrap();
         r.check_invariants().unwrap();
         let expect = apply(op, &va, &vb);
@@ -480,12 +475,7 @@ fn data_meshes_at_mixed_resolutions_combine_voxelwise() {
     )
     .unwrap();
     let (va, vb) = (voxel_set(&coarse), voxel_set(&fine));
-    for op in [
-        BoolOp::Union,
-        BoolOp::Intersection,
-        BoolOp::Difference,
-        BoolOp::Xor,
-    ] {
+    for op in BoolOp::ALL {
         let r = coarse.op(&fine, op).unwrap();
         r.check_invariants().unwrap();
         assert_eq!(voxel_set(&r), apply(op, &va, &vb), "{op:?}");

@@ -304,12 +304,7 @@ mod tests {
             Config::with_cases(60),
             TestRng::from_seed(RngAlgorithm::ChaCha, &[11; 32]),
         );
-        let ops = [
-            BoolOp::Union,
-            BoolOp::Intersection,
-            BoolOp::Difference,
-            BoolOp::Xor,
-        ];
+        let ops = BoolOp::ALL;
         runner
             .run(&(arb_brick_columns(), arb_brick_columns()), |(ca, cb)| {
                 let a = Brick::from_columns(&ca.iter().collect::<Vec<_>>());

@@ -34,6 +34,14 @@ pub enum BoolOp {
 }
 
 impl BoolOp {
+    /// Every operation, for callers (tests, benches) that try them all.
+    pub const ALL: [BoolOp; 4] = [
+        BoolOp::Union,
+        BoolOp::Intersection,
+        BoolOp::Difference,
+        BoolOp::Xor,
+    ];
+
     /// The operation on one pair of inside flags.
     pub fn apply(self, a: bool, b: bool) -> bool {
         match self {
@@ -269,12 +277,7 @@ mod tests {
             Config::with_cases(300),
             TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]),
         );
-        let ops = [
-            BoolOp::Union,
-            BoolOp::Intersection,
-            BoolOp::Difference,
-            BoolOp::Xor,
-        ];
+        let ops = BoolOp::ALL;
         runner
             .run(&(arb_column(), arb_column()), |(a, b)| {
                 for op in ops {

@@ -214,12 +214,7 @@ mod tests {
         let cols: Vec<_> = (0..20).map(|i| ((i, i % 5), col(&[(i, i + 3)]))).collect();
         let b = Solid::from_columns(grid, 0, &cols);
         let (va, vb) = (voxels(&a), voxels(&b));
-        for op in [
-            BoolOp::Union,
-            BoolOp::Intersection,
-            BoolOp::Difference,
-            BoolOp::Xor,
-        ] {
+        for op in BoolOp::ALL {
             let r = a.op(&b, op).unwrap();
             r.check_invariants().unwrap();
             let expect: BTreeSet<_> = match op {
@@ -259,12 +254,7 @@ mod tests {
                 .iter()
                 .fold(solids[0].clone(), |acc, s| acc.op(s, op).unwrap())
         };
-        for op in [
-            BoolOp::Union,
-            BoolOp::Intersection,
-            BoolOp::Difference,
-            BoolOp::Xor,
-        ] {
+        for op in BoolOp::ALL {
             assert_eq!(
                 Solid::op_all(&solids, op).unwrap(),
                 Some(chained(op)),
