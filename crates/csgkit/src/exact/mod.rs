@@ -21,10 +21,14 @@
 //! Only **intersect** and **split** exist so far; the exact predicates they use are in
 //! [`kernel`](crate::kernel).
 
+mod boolean;
 pub mod intersect;
 pub mod self_intersect;
 mod split;
 
+pub use boolean::{
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, ProgressFn, Stage, boolean,
+};
 pub use intersect::{
     Contact, Feature, Intersection, PointKey, Triangle, TriangleEdge, intersect_triangles,
 };
