@@ -123,7 +123,7 @@ pub struct Boolean {
 
 /// Why a boolean could not be computed. Every variant names the operand (its index in the
 /// order given) and where the problem is.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum BooleanError {
     /// No operand was given.
@@ -196,7 +196,7 @@ fn format_edges(edges: &[[u32; 2]]) -> String {
 
 fn format_pairs(pairs: &[(FaceId, FaceId)]) -> String {
     let list: Vec<String> = (pairs.iter())
-        .map(|(f, g)| format!("{}×{}", f.0, g.0))
+        .map(|(f, g)| format!("{}×{}", f.index(), g.index()))
         .collect();
     list.join(", ")
 }
