@@ -4,6 +4,8 @@ mod util;
 
 // The discrete engine against brute-force voxel oracles.
 mod discrete_cases;
+// The exact engine: the degenerate suite of design/exact.md with exact volumes.
+mod exact_cases;
 // Every shared data mesh loads with the manifest's counts; formats round-trip.
 mod io_formats;
 // Truncated, corrupted and random bytes make no reader panic.

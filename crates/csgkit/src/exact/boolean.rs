@@ -5,6 +5,8 @@ use std::time::Instant;
 
 use crate::mesh::{FaceId, Mesh};
 
+use super::{assemble, broad, classify, ingest, select, subdivide};
+
 
 /// A boolean operation on solids.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -210,7 +212,7 @@ pub(crate) const ERROR_EXAMPLES: usize = 5;
 ///
 /// # Example
 /// Two unit cubes sharing a face make a 2 × 1 × 1 box.
-/// ```no_run
+/// ```
 /// use csgkit::csg::primitives::cuboid;
 /// use csgkit::exact::{BooleanOptions, Operation, boolean};
 /// let a = cuboid([0.0; 3], [1.0; 3]);
@@ -231,9 +233,42 @@ pub fn boolean(
     if operands.is_empty() {
         return Err(BooleanError::NoOperands);
     }
-    let _ = (op, options, ERROR_EXAMPLES);
-    let _ = StageClock::new(None).finish(Stage::Ingest, &mut BooleanStats::default());
-    Err(BooleanError::Unsupported("the pipeline is being built".into()))
+    let mut stats = BooleanStats::default();
+    let mut clock = StageClock::new(options.progress);
+
+    let input = ingest::ingest(operands)?;
+    stats.input_triangles = input.triangles.len();
+    clock.finish(Stage::Ingest, &mut stats)?;
+
+    if options.check_self_intersections {
+        ingest::check_self_intersections(&input)?;
+        clock.finish(Stage::Validate, &mut stats)?;
+    }
+
+    let pairs = broad::candidate_pairs(&input);
+    stats.candidate_pairs = pairs.len();
+    clock.finish(Stage::Broad, &mut stats)?;
+
+    let contacts = subdivide::intersect_pairs(&input, &pairs);
+    stats.intersecting_pairs = contacts.intersecting_pairs;
+    clock.finish(Stage::Intersect, &mut stats)?;
+
+    let arrangement = subdivide::split(&input, contacts)?;
+    stats.split_triangles = arrangement.split_triangles;
+    clock.finish(Stage::Split, &mut stats)?;
+
+    let labels = classify::classify(&input, &arrangement)?;
+    stats.patches = labels.patch_count();
+    clock.finish(Stage::Classify, &mut stats)?;
+
+    let kept = select::select(op, &input, &arrangement, &labels);
+    let mesh = assemble::assemble(&input, &arrangement, &kept);
+    if options.split_non_manifold {
+        return Err(BooleanError::Unsupported("--manifold is not wired yet".into()));
+    }
+    stats.output_triangles = mesh.face_count();
+    clock.finish(Stage::Assemble, &mut stats)?;
+    Ok(Boolean { mesh, stats })
 }
 
 /// Times consecutive stages and reports each to the progress callback.

@@ -21,10 +21,16 @@
 //! Only **intersect** and **split** exist so far; the exact predicates they use are in
 //! [`kernel`](crate::kernel).
 
+mod assemble;
 mod boolean;
+mod broad;
+mod classify;
+mod ingest;
 pub mod intersect;
+mod select;
 pub mod self_intersect;
 mod split;
+mod subdivide;
 
 pub use boolean::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, ProgressFn, Stage, boolean,

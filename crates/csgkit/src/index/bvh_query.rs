@@ -51,6 +51,41 @@ impl Bvh {
     }
 }
 
+impl Bvh {
+    /// Calls `visit` with the id of every primitive whose box overlaps `query` (touching
+    /// counts), in tree order. A ray along an axis is a box that is flat on two axes.
+    pub fn visit_overlapping(&self, query: &Aabb, mut visit: impl FnMut(u32)) {
+        self.any_overlapping(query, |id| {
+            visit(id);
+            false
+        });
+    }
+
+    /// True when some primitive whose box overlaps `query` satisfies `wanted`; stops at the
+    /// first one.
+    pub fn any_overlapping(&self, query: &Aabb, mut wanted: impl FnMut(u32) -> bool) -> bool {
+        if self.is_empty() {
+            return false;
+        }
+        let mut stack = vec![0usize];
+        while let Some(node) = stack.pop() {
+            if !self.nodes[node].overlaps(query) {
+                continue;
+            }
+            if self.is_leaf(node) {
+                for p in self.leaf_primitives(node) {
+                    if self.boxes[p].overlaps(query) && wanted(self.ids[p]) {
+                        return true;
+                    }
+                }
+            } else {
+                stack.extend([2 * node + 2, 2 * node + 1]);
+            }
+        }
+        false
+    }
+}
+
 impl Walk<'_> {
     fn run(self) -> Vec<(u32, u32)> {
         if self.a.is_empty() || self.b.is_empty() {

@@ -35,7 +35,7 @@ mod report;
 #[cfg(test)]
 mod test_meshes;
 mod topology;
-mod union_find;
+pub(crate) mod union_find;
 mod validation;
 mod weld;
 

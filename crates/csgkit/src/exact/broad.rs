@@ -1,0 +1,59 @@
+//! The **broad** stage (`design/exact.md`, stage 2): the pairs of triangles of different
+//! operands whose bounding boxes overlap.
+//!
+//! Only triangles inside the region where operands overlap are indexed. Two operands: one
+//! [`Bvh`] per operand over its triangles in the overlap of both operand boxes, queried
+//! against each other. More: one tree over every triangle that meets another operand's box,
+//! queried against itself, keeping pairs of different operands. Output order is
+//! deterministic (the BVH queries are), then sorted.
+
+use rayon::prelude::*;
+
+use crate::index::{Aabb, Bvh};
+
+use super::ingest::Input;
+
+/// The box of triangle `t`.
+pub(crate) fn triangle_box(input: &Input, t: usize) -> Aabb {
+    Aabb::from_points(input.triangles[t].positions().iter())
+}
+
+/// Every pair `(s, t)` with `s < t` of triangles of different operands whose boxes overlap,
+/// sorted.
+pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
+    let boxes: Vec<Aabb> = (0..input.triangles.len())
+        .into_par_iter()
+        .map(|t| triangle_box(input, t))
+        .collect();
+    let mut pairs = if input.operand_count() == 2 {
+        let region = input.operand_boxes[0].intersection(&input.operand_boxes[1]);
+        if region.is_empty() {
+            return Vec::new();
+        }
+        let (a, b) = (input.operand_triangles(0), input.operand_triangles(1));
+        let offset = b.start as u32;
+        let tree_a = Bvh::build_in(&boxes[a], &region);
+        let tree_b = Bvh::build_in(&boxes[b], &region);
+        (tree_a.overlapping_pairs(&tree_b).into_iter())
+            .map(|(s, t)| (s, t + offset))
+            .collect()
+    } else {
+        let operand_tree = Bvh::build(&input.operand_boxes);
+        let near_other: Vec<Aabb> = (0..boxes.len())
+            .into_par_iter()
+            .map(|t| {
+                let mine = input.operand[t];
+                let near = operand_tree.any_overlapping(&boxes[t], |k| k != mine);
+                if near { boxes[t] } else { Aabb::EMPTY }
+            })
+            .collect();
+        let tree = Bvh::build_in(&near_other, &operand_tree.bounds());
+        let mut pairs: Vec<(u32, u32)> = (tree.self_overlapping_pairs().into_par_iter())
+            .filter(|&(s, t)| input.operand[s as usize] != input.operand[t as usize])
+            .collect();
+        pairs.par_iter_mut().for_each(|p| *p = (p.0.min(p.1), p.0.max(p.1)));
+        pairs
+    };
+    pairs.par_sort_unstable();
+    pairs
+}

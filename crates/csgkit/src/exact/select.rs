@@ -1,0 +1,120 @@
+//! The **select** stage (`design/exact.md`, stage 7): which sub-triangles bound the result,
+//! and which way they face.
+//!
+//! The paper's table, written as a predicate on winding numbers so that n-ary operations need
+//! no chain of binary steps. Just in front of a sub-triangle of operand `j` (on the side its
+//! normal points to) operand `j`'s winding number is 0 and just behind it 1; every other
+//! operand's is given by the patch label: 1 on both sides inside, 0 outside, 0 in front and
+//! 1 behind on a same-facing coincident face, the reverse on an opposite-facing one. The
+//! sub-triangle bounds the result when the operation's membership differs between its two
+//! sides; it is reversed when the front is the inside. A region where several operands'
+//! faces coincide is kept once, from the lowest operand: a sub-triangle lying on the surface
+//! of a lower operand is dropped, since that operand's coincident face makes the same
+//! decision.
+
+use rayon::prelude::*;
+
+use super::boolean::Operation;
+use super::classify::{Label, Labels};
+use super::ingest::Input;
+use super::subdivide::Arrangement;
+
+/// A kept sub-triangle: its index and whether to reverse it.
+pub(crate) type Kept = Vec<(u32, bool)>;
+
+/// The sub-triangles of the result, in sub-triangle order.
+pub(crate) fn select(op: Operation, input: &Input, arr: &Arrangement, labels: &Labels) -> Kept {
+    let operand_count = input.operand_count();
+    // The decision depends only on the patch: make it once per patch.
+    let patch_operand: Vec<u32> = {
+        let mut operand = vec![0u32; labels.patch_count()];
+        for (s, &p) in labels.patch_of.iter().enumerate() {
+            operand[p as usize] = input.operand[arr.source[s] as usize];
+        }
+        operand
+    };
+    let decisions: Vec<Option<bool>> = (labels.labels.iter().zip(&patch_operand))
+        .map(|(l, &j)| decide(op, operand_count, j, l))
+        .collect();
+    (0..arr.triangles.len() as u32)
+        .into_par_iter()
+        .filter_map(|s| decisions[labels.patch_of[s as usize] as usize].map(|flip| (s, flip)))
+        .collect()
+}
+
+/// `Some(reverse)` when a face of operand `own` with these labels bounds the result.
+fn decide(op: Operation, operand_count: usize, own: u32, labels: &[(u32, Label)]) -> Option<bool> {
+    let coincides_with_lower = labels
+        .iter()
+        .any(|&(k, l)| k < own && matches!(l, Label::OnSame | Label::OnOpposite));
+    if coincides_with_lower {
+        return None;
+    }
+    let front = contains(op, operand_count, own, false, labels);
+    let back = contains(op, operand_count, own, true, labels);
+    (front != back).then_some(front)
+}
+
+/// Whether the result contains the points just behind (`behind`) or in front of a face of
+/// operand `own` with `labels`; operands not in `labels` are outside there.
+fn contains(
+    op: Operation,
+    operand_count: usize,
+    own: u32,
+    behind: bool,
+    labels: &[(u32, Label)],
+) -> bool {
+    let inside = |label: Label| match label {
+        Label::Inside => true,
+        Label::OnSame => behind,
+        Label::OnOpposite => !behind,
+    };
+    let inside_count = usize::from(behind) + labels.iter().filter(|(_, l)| inside(*l)).count();
+    match op {
+        Operation::Union => inside_count > 0,
+        Operation::Intersection => inside_count == operand_count,
+        Operation::Difference => {
+            let first_inside = if own == 0 {
+                behind
+            } else {
+                labels.iter().any(|&(k, l)| k == 0 && inside(l))
+            };
+            first_inside && inside_count == 1
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_table_for_two_operands() {
+        use Label::*;
+        use Operation::*;
+        // (op, own, label of the other, expected)
+        let cases = [
+            (Union, 0, None, Some(false)),
+            (Union, 0, Some(Inside), None),
+            (Intersection, 0, None, None),
+            (Intersection, 1, Some(Inside), Some(false)),
+            (Difference, 0, None, Some(false)),
+            (Difference, 0, Some(Inside), None),
+            (Difference, 1, Some(Inside), Some(true)),
+            (Difference, 1, None, None),
+            // Coincident faces: kept once from the lowest operand.
+            (Union, 0, Some(OnSame), Some(false)),
+            (Union, 1, Some(OnSame), None),
+            (Union, 0, Some(OnOpposite), None),
+            (Intersection, 0, Some(OnSame), Some(false)),
+            (Intersection, 0, Some(OnOpposite), None),
+            (Difference, 0, Some(OnSame), None),
+            (Difference, 0, Some(OnOpposite), Some(false)),
+        ];
+        for (op, own, label, expected) in cases {
+            let other = 1 - own;
+            let labels: Vec<(u32, Label)> = label.map(|l| (other, l)).into_iter().collect();
+            assert_eq!(decide(op, 2, own, &labels), expected, "{op:?} {own} {label:?}");
+        }
+    }
+}
