@@ -83,17 +83,9 @@ const RAYS_WITHOUT_INDEX: usize = 8;
 pub(crate) fn classify(input: &Input, arr: &Arrangement) -> Result<Labels, BooleanError> {
     let edges = EdgeGroups::new(input, arr);
     let (patch_of, patch_count) = patches(input, arr, &edges);
-    let clean = clean_vertices(input, arr, &patch_of, patch_count);
+    let operand_count = input.operand_count();
 
-    let mut labels: Vec<Option<Vec<(u32, Label)>>> = vec![None; patch_count];
-    let (ray_patches, rays): (Vec<usize>, Vec<(u32, u32)>) = (clean.iter().enumerate())
-        .filter_map(|(p, v)| v.map(|v| (p, v)))
-        .unzip();
-    for (p, found) in ray_patches.into_iter().zip(cast_rays(input, &rays)) {
-        labels[p] = Some(found);
-    }
-
-    // Faces of other operands at each patch's boundary edges.
+    // Local tests at the edges where other operands' faces meet each patch.
     let mut contacts: Vec<(u32, u32, u32)> = Vec::new(); // (patch, group, face)
     for (g, group) in edges.groups().enumerate() {
         if group.iter().any(|r| r.operand != group[0].operand) {
@@ -104,20 +96,39 @@ pub(crate) fn classify(input: &Input, arr: &Arrangement) -> Result<Labels, Boole
     }
     contacts.sort_unstable();
     let by_patch: Vec<&[(u32, u32, u32)]> = contacts.chunk_by(|x, y| x.0 == y.0).collect();
-    let local: Vec<(u32, Result<LocalLabels, BooleanError>)> = by_patch
+    let mut local = vec![LocalLabels::default(); patch_count];
+    let found: Vec<(u32, LocalLabels)> = by_patch
         .par_iter()
-        .filter(|c| labels[c[0].0 as usize].is_none())
         .map(|c| (c[0].0, local_labels(input, arr, &edges, c)))
         .collect();
+    for (p, l) in found {
+        local[p as usize] = l;
+    }
 
-    let operand_count = input.operand_count();
-    let mut pending: Vec<(u32, LocalLabels)> = Vec::new();
-    for (p, found) in local {
-        let found = found?;
-        if operand_count == 2 || found.touched.len() + 1 == operand_count {
-            labels[p as usize] = Some(found.labels);
+    // Rays for the operands a patch does not touch along an edge.
+    let mut labels: Vec<Option<Vec<(u32, Label)>>> = vec![None; patch_count];
+    let ray_from = ray_vertices(input, arr, &patch_of, &local);
+    let (ray_patches, rays): (Vec<usize>, Vec<(u32, u32)>) = (ray_from.iter().enumerate())
+        .filter_map(|(p, v)| v.map(|v| (p, v)))
+        .unzip();
+    for (p, inside) in ray_patches.into_iter().zip(cast_rays(input, &rays)) {
+        let own = &local[p];
+        let mut merged: Vec<(u32, Label)> = (inside.into_iter())
+            .filter(|(k, _)| !own.touched.contains(k))
+            .chain(own.labels.iter().copied())
+            .collect();
+        merged.sort_unstable_by_key(|e| e.0);
+        labels[p] = Some(merged);
+    }
+    let mut pending = Vec::new();
+    for (p, l) in local.into_iter().enumerate() {
+        if labels[p].is_some() {
+            continue;
+        }
+        if l.touched.len() + 1 == operand_count {
+            labels[p] = Some(l.labels);
         } else {
-            pending.push((p, found));
+            pending.push((p as u32, l));
         }
     }
     propagate(&edges, &patch_of, &mut labels, pending)?;
@@ -241,30 +252,40 @@ fn patches(input: &Input, arr: &Arrangement, edges: &EdgeGroups) -> (Vec<u32>, u
     (patch_of, count as usize)
 }
 
-/// For each patch, an input vertex of it that lies on no other operand's surface, if any,
-/// with the patch's operand.
-fn clean_vertices(
+/// For each patch that local tests leave incomplete, a vertex to cast a ray from, with the
+/// patch's operand: an input vertex that lies on no other operand's surface except those
+/// the local tests covered (so the ray's winding numbers are defined for every operand it
+/// is asked about, and equal the patch's).
+fn ray_vertices(
     input: &Input,
     arr: &Arrangement,
     patch_of: &[u32],
-    patch_count: usize,
+    local: &[LocalLabels],
 ) -> Vec<Option<(u32, u32)>> {
     let n = input.positions.len();
-    let mut on_other = vec![false; n];
-    for &v in &arr.contact_vertices {
-        on_other[v as usize] = true;
-    }
-    let mut clean = vec![None; patch_count];
+    let operand_count = input.operand_count();
+    let mut done: Vec<bool> = (local.iter())
+        .map(|l| l.touched.len() + 1 == operand_count)
+        .collect();
+    let mut from = vec![None; local.len()];
+    let contacts = &arr.contact_vertices;
     for (s, tri) in arr.triangles.iter().enumerate() {
         let p = patch_of[s] as usize;
-        if clean[p].is_none() {
-            let operand = input.operand[arr.source[s] as usize];
-            clean[p] = (tri.iter())
-                .find(|&&v| (v as usize) < n && !on_other[v as usize])
-                .map(|&v| (v, operand));
+        if done[p] {
+            continue;
+        }
+        let own = input.operand[arr.source[s] as usize];
+        let usable = |v: u32| {
+            let start = contacts.partition_point(|c| c.0 < v);
+            (contacts[start..].iter().take_while(|c| c.0 == v))
+                .all(|&(_, k)| k == own || local[p].touched.contains(&k))
+        };
+        if let Some(&v) = tri.iter().find(|&&v| (v as usize) < n && usable(v)) {
+            from[p] = Some((v, own));
+            done[p] = true;
         }
     }
-    clean
+    from
 }
 
 /// The labels of each patch at its clean vertex, by exact ray casting: `rays` holds
@@ -354,7 +375,7 @@ fn crossing(tri: [Point3; 3], v: Point3) -> i32 {
 }
 
 /// Labels found by local tests, and the operands they cover.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 struct LocalLabels {
     labels: Vec<(u32, Label)>,
     /// Operands whose surface the patch touches along an edge.
@@ -367,7 +388,7 @@ fn local_labels(
     arr: &Arrangement,
     edges: &EdgeGroups,
     contacts: &[(u32, u32, u32)],
-) -> Result<LocalLabels, BooleanError> {
+) -> LocalLabels {
     let own = input.operand[arr.source[contacts[0].2 as usize] as usize];
     let mut touched: Vec<u32> = Vec::new();
     let mut labels = Vec::new();
@@ -396,7 +417,7 @@ fn local_labels(
     }
     labels.sort_unstable_by_key(|e| e.0);
     touched.sort_unstable();
-    Ok(LocalLabels { labels, touched })
+    LocalLabels { labels, touched }
 }
 
 /// Where sub-triangle `me` lies at its edge relative to the operand whose two faces there are

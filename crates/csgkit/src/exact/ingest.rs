@@ -128,7 +128,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
         operand_boxes,
         neighbours: Vec::new(),
     };
-    input.neighbours = link_edges(&input, operands, &welding.representatives, &vertex_offsets(operands))?;
+    input.neighbours = link_edges(&input, operands, &welding.remap, &vertex_offsets(operands))?;
     for k in 0..operands.len() {
         let volume = signed_volume(&input, k);
         if volume < 0.0 {
@@ -175,7 +175,7 @@ fn power_of_two_scale(coords: &[Point3]) -> f64 {
 fn link_edges(
     input: &Input,
     operands: &[&Mesh],
-    representatives: &[u32],
+    remap: &[u32],
     offsets: &[usize],
 ) -> Result<Vec<u32>, BooleanError> {
     // One record per side: (smaller vertex, larger vertex, operand, side index, forward).
@@ -208,8 +208,11 @@ fn link_edges(
             unbalanced_count[k] += 1;
             if unbalanced[k].len() < ERROR_EXAMPLES {
                 let key = run[0].0;
+                // The operand's own index of a welded vertex (the welded representative may
+                // belong to another operand). Only on this error path, so a scan is fine.
                 let local = |v: u32| {
-                    let raw = representatives[v as usize] as usize;
+                    let own = offsets[k]..offsets[k + 1];
+                    let raw = own.clone().find(|&r| remap[r] == v).unwrap_or(own.start);
                     (raw - offsets[k]) as u32
                 };
                 unbalanced[k].push([local((key >> 32) as u32), local(key as u32)]);

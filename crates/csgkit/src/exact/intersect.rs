@@ -173,6 +173,12 @@ pub enum PointKey {
         /// The two edges, smaller first.
         edges: [TriangleEdge; 2],
     },
+    /// The planes of three triangles of three operands meet inside all three (found by the
+    /// split stage where two intersection segments cross); the ids are sorted.
+    Triple {
+        /// The three [`Triangle::id`]s, ascending.
+        triangles: [u32; 3],
+    },
 }
 
 /// A point where two triangles `a` and `b` touch or cross.

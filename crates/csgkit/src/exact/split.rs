@@ -162,6 +162,8 @@ pub fn split_triangle(
 pub(crate) struct Projection {
     drop: Axis,
     flip: bool,
+    /// The triangle's corners, when explicit: for the structural collinearity test.
+    corners: Option<[Point3; 3]>,
 }
 
 impl Projection {
@@ -184,6 +186,12 @@ impl Projection {
                 s => Some(Projection {
                     drop,
                     flip: s == Sign::Negative,
+                    corners: match corners {
+                        [Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)] => {
+                            Some([*a, *b, *c])
+                        }
+                        _ => None,
+                    },
                 }),
             }
         })
@@ -191,9 +199,49 @@ impl Projection {
 
     /// Orientation of `a, b, c` in the frame: positive when turning like the input triangle.
     pub(crate) fn orient(&self, a: &Point, b: &Point, c: &Point) -> Sign {
+        if self.on_another_plane(a, b, c) {
+            return Sign::Zero;
+        }
         let s = orient2d_projected(a, b, c, self.drop);
         if self.flip { s.flip() } else { s }
     }
+
+    /// True when `a, b, c` lie by construction on the plane of some triangle `π` that is not
+    /// parallel to this one: all three are on both planes, so on their common line. Points
+    /// along one intersection segment are all of this kind (the ends of a crossing lie on the
+    /// other triangle's plane, or on its edges), and exactly collinear triples would
+    /// otherwise go to the slow exact stages of the kernel.
+    fn on_another_plane(&self, a: &Point, b: &Point, c: &Point) -> bool {
+        let Some(own) = self.corners else { return false };
+        let candidate = [a, b, c].into_iter().find_map(|p| match p {
+            Point::Lpi(l) => {
+                let (_, _, plane) = l.definition();
+                (!same_vertices(&plane, &own)).then_some(plane)
+            }
+            _ => None,
+        });
+        let Some(plane) = candidate else { return false };
+        let on = |p: &Point| match p {
+            Point::Explicit(x) => plane.contains(x),
+            Point::Lpi(l) => {
+                let (s, t, other) = l.definition();
+                same_vertices(&other, &plane) || (plane.contains(&s) && plane.contains(&t))
+            }
+            Point::Tpi(t) => t.planes().iter().any(|q| same_vertices(q, &plane)),
+        };
+        on(a) && on(b) && on(c) && !same_plane(&plane, &own)
+    }
+}
+
+fn same_vertices(x: &[Point3; 3], y: &[Point3; 3]) -> bool {
+    x.iter().all(|p| y.contains(p))
+}
+
+/// True when the plane of `x` is the plane of `y` (exactly). Called only for planes that
+/// share a point, so this is also the test for parallel planes.
+fn same_plane(x: &[Point3; 3], y: &[Point3; 3]) -> bool {
+    x.iter()
+        .all(|&p| crate::kernel::orient3d(y[0], y[1], y[2], p) == Sign::Zero)
 }
 
 fn sub(a: Point3, b: Point3) -> Point3 {

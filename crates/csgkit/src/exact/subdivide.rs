@@ -23,12 +23,13 @@
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use crate::kernel::Point;
+use crate::index::Aabb;
+use crate::kernel::{Point, Sign, compare_lex, orient2d_projected};
 use crate::mesh::union_find::UnionFind;
 
 use super::boolean::BooleanError;
 use super::ingest::Input;
-use super::intersect::{Contact, Intersection, PointKey, intersect_triangles};
+use super::intersect::{Contact, Feature, Intersection, PointKey, Triangle, intersect_triangles};
 use super::split::split_triangle;
 
 /// What one intersecting pair puts on one of its triangles.
@@ -36,8 +37,18 @@ use super::split::split_triangle;
 enum Mark {
     /// A contact point.
     Point(PointKey, Point),
-    /// A contact segment between two points.
-    Segment(PointKey, PointKey),
+    /// A contact segment between two points, on the line where `Support` meets the triangle.
+    Segment(PointKey, PointKey, Support),
+}
+
+/// What carries a contact segment on a triangle `t`: needed to build the point where two
+/// segments on `t` cross.
+#[derive(Clone, Copy, Debug)]
+enum Support {
+    /// The plane of another (not coplanar) triangle: the segment lies on its line with `t`.
+    Plane(u32),
+    /// An input edge lying in the plane of `t`, as its sorted vertex ids.
+    Edge([u32; 2]),
 }
 
 /// The contacts of every intersecting candidate pair, grouped by triangle.
@@ -54,7 +65,7 @@ pub(crate) fn intersect_pairs(input: &Input, pairs: &[(u32, u32)]) -> Contacts {
         .par_iter()
         .filter_map(|&(s, t)| {
             let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
-            let marks = marks_of(s, t, intersect_triangles(a, b));
+            let marks = marks_of(a, b, intersect_triangles(a, b));
             (!marks.is_empty()).then_some(marks)
         })
         .collect();
@@ -68,8 +79,9 @@ pub(crate) fn intersect_pairs(input: &Input, pairs: &[(u32, u32)]) -> Contacts {
     }
 }
 
-/// The marks an intersection puts on its two triangles `s` (the `a` of the test) and `t`.
-fn marks_of(s: u32, t: u32, intersection: Intersection) -> Vec<(u32, Mark)> {
+/// The marks an intersection of triangles `a` and `b` puts on each of them.
+fn marks_of(a: &Triangle, b: &Triangle, intersection: Intersection) -> Vec<(u32, Mark)> {
+    let (s, t) = (a.id(), b.id());
     let point = |c: &Contact| Mark::Point(c.key, c.point);
     let both = |mark: Mark| [(s, mark), (t, mark)];
     match intersection {
@@ -78,18 +90,35 @@ fn marks_of(s: u32, t: u32, intersection: Intersection) -> Vec<(u32, Mark)> {
         Intersection::TouchingSegment([c, d]) | Intersection::Crossing([c, d]) => {
             let mut marks = both(point(&c)).to_vec();
             marks.extend(both(point(&d)));
-            marks.extend(both(Mark::Segment(c.key, d.key)));
+            marks.push((s, Mark::Segment(c.key, d.key, Support::Plane(t))));
+            marks.push((t, Mark::Segment(c.key, d.key, Support::Plane(s))));
             marks
         }
         Intersection::CoplanarOverlap(corners) => {
             let mut marks: Vec<(u32, Mark)> = corners.iter().flat_map(|c| both(point(c))).collect();
             for (i, c) in corners.iter().enumerate() {
                 let d = &corners[(i + 1) % corners.len()];
-                marks.extend(both(Mark::Segment(c.key, d.key)));
+                // Each side of the overlap lies along an edge of `b` or of `a`.
+                let edge = match common_edge(c.on_b, d.on_b) {
+                    Some(i) => b.edge(i),
+                    None => a.edge(common_edge(c.on_a, d.on_a).unwrap_or(0)),
+                };
+                marks.extend(both(Mark::Segment(c.key, d.key, Support::Edge(edge))));
             }
             marks
         }
     }
+}
+
+/// The edge of a triangle containing two features of it, if any.
+fn common_edge(f: Feature, g: Feature) -> Option<usize> {
+    let edges = |x: Feature| match x {
+        Feature::Vertex(i) => [Some(i), Some((i + 2) % 3)],
+        Feature::Edge(i) => [Some(i), None],
+        Feature::Face => [None, None],
+    };
+    let (ef, eg) = (edges(f), edges(g));
+    ef.into_iter().flatten().find(|e| eg.contains(&Some(*e)))
 }
 
 /// The subdivided operands.
@@ -105,8 +134,9 @@ pub(crate) struct Arrangement {
     pub source: Vec<u32>,
     /// Whether each input triangle has contacts (and was split, possibly into itself).
     pub touched: Vec<bool>,
-    /// Input vertices that lie on another operand's surface, sorted.
-    pub contact_vertices: Vec<u32>,
+    /// `(v, k)` for each input vertex `v` in a contact with a triangle of operand `k`
+    /// (including `v`'s own operand), sorted.
+    pub contact_vertices: Vec<(u32, u32)>,
     /// How many input triangles were split.
     pub split_triangles: usize,
 }
@@ -140,7 +170,8 @@ pub(crate) fn split(input: &Input, contacts: Contacts) -> Result<Arrangement, Bo
         .par_iter()
         .map(|group| split_one(input, group, &ids))
         .collect();
-    let splits: Vec<TriangleSplit> = splits.into_iter().collect::<Result<_, _>>()?;
+    let mut splits: Vec<TriangleSplit> = splits.into_iter().collect::<Result<_, _>>()?;
+    let points = number_crossings(input, points, &mut splits);
 
     let mut merges = UnionFind::new(input.positions.len() + points.len());
     let mut any_merge = false;
@@ -177,9 +208,9 @@ pub(crate) fn split(input: &Input, contacts: Contacts) -> Result<Arrangement, Bo
     for s in &splits {
         touched[s.triangle as usize] = true;
     }
-    let mut contact_vertices: Vec<u32> = (marks.iter())
-        .filter_map(|&(_, m)| match m {
-            Mark::Point(PointKey::Vertex(v), _) => Some(v),
+    let mut contact_vertices: Vec<(u32, u32)> = (marks.iter())
+        .filter_map(|&(t, m)| match m {
+            Mark::Point(PointKey::Vertex(v), _) => Some((v, input.operand[t as usize])),
             _ => None,
         })
         .collect();
@@ -222,12 +253,54 @@ fn global_id(key: &PointKey, ids: &FxHashMap<PointKey, u32>) -> u32 {
     }
 }
 
+/// Marks a vertex id in a [`TriangleSplit`] as an index into its `crossings`, until
+/// [`number_crossings`] gives crossing points their global ids.
+const CROSSING: u32 = 1 << 31;
+
 /// The sub-triangles of one input triangle.
 struct TriangleSplit {
     triangle: u32,
     triangles: Vec<[u32; 3]>,
-    /// `[merged, kept]` global ids of coincident points with different keys.
+    /// `[merged, kept]` ids of coincident points with different keys.
     merged: Vec<[u32; 2]>,
+    /// Points where two segments cross inside the triangle; id `CROSSING | i` is `i`.
+    crossings: Vec<(PointKey, Point)>,
+}
+
+/// Gives the crossing points found by the splits global ids after the contact points, in
+/// key order, and rewrites the splits' placeholder ids. Returns all intersection points.
+fn number_crossings(
+    input: &Input,
+    mut points: Vec<Point>,
+    splits: &mut [TriangleSplit],
+) -> Vec<Point> {
+    let mut found: Vec<(PointKey, Point)> = (splits.iter())
+        .flat_map(|s| s.crossings.iter().copied())
+        .collect();
+    if found.is_empty() {
+        return points;
+    }
+    found.sort_unstable_by(|x, y| x.0.cmp(&y.0));
+    found.dedup_by(|x, y| x.0 == y.0);
+    let first = (input.positions.len() + points.len()) as u32;
+    let id_of = |key: &PointKey| {
+        first + found.binary_search_by(|x| x.0.cmp(key)).expect("every crossing was found") as u32
+    };
+    for s in splits.iter_mut() {
+        if s.crossings.is_empty() {
+            continue;
+        }
+        let global: Vec<u32> = s.crossings.iter().map(|(key, _)| id_of(key)).collect();
+        let fix = |v: u32| if v & CROSSING != 0 { global[(v & !CROSSING) as usize] } else { v };
+        for tri in &mut s.triangles {
+            *tri = tri.map(fix);
+        }
+        for m in &mut s.merged {
+            *m = m.map(fix);
+        }
+    }
+    points.extend(found.into_iter().map(|(_, p)| p));
+    points
 }
 
 /// Splits the triangle the marks of `group` are on.
@@ -238,36 +311,38 @@ fn split_one(
 ) -> Result<TriangleSplit, BooleanError> {
     let t = group[0].0;
     let tri = &input.triangles[t as usize];
-    // Local ids: corners 0..3, then points in first-seen order.
-    let mut local: Vec<u32> = tri.vertices().to_vec();
+    // Local ids: corners 0..3, then points in first-seen order; `global` holds their ids.
+    let mut global: Vec<u32> = tri.vertices().to_vec();
+    let mut local_of: FxHashMap<u32, u32> = (global.iter().enumerate())
+        .map(|(i, &g)| (g, i as u32))
+        .collect();
     let mut points = Vec::new();
-    let mut local_of = |key: &PointKey, point: Option<&Point>, points: &mut Vec<Point>| {
-        let g = global_id(key, ids);
-        match local.iter().position(|&x| x == g) {
-            Some(i) => i as u32,
-            None => {
-                local.push(g);
-                points.push(*point.expect("every segment end is also a point mark"));
-                (local.len() - 1) as u32
-            }
-        }
-    };
     for (_, mark) in group {
         if let Mark::Point(key, point) = mark {
-            local_of(key, Some(point), &mut points);
+            let g = global_id(key, ids);
+            local_of.entry(g).or_insert_with(|| {
+                global.push(g);
+                points.push(*point);
+                (global.len() - 1) as u32
+            });
         }
     }
-    let mut segments = Vec::new();
+    let mut segments: Vec<([u32; 2], Support)> = Vec::new();
     for (_, mark) in group {
-        if let Mark::Segment(a, b) = mark {
-            let (a, b) = (local_of(a, None, &mut points), local_of(b, None, &mut points));
+        if let Mark::Segment(a, b, support) = mark {
+            let (a, b) = (local_of[&global_id(a, ids)], local_of[&global_id(b, ids)]);
             if a != b {
-                segments.push([a.min(b), a.max(b)]);
+                segments.push(([a.min(b), a.max(b)], *support));
             }
         }
     }
-    segments.sort_unstable();
-    segments.dedup();
+    segments.sort_unstable_by_key(|s| s.0);
+    segments.dedup_by_key(|s| s.0);
+    let crossings = cut_crossing_segments(input, t, &mut points, &mut segments);
+    for i in 0..crossings.len() {
+        global.push(CROSSING | i as u32);
+    }
+    let segments: Vec<[u32; 2]> = segments.iter().map(|s| s.0).collect();
     let split = split_triangle(tri.positions(), &points, &segments).map_err(|e| {
         BooleanError::Unsupported(format!(
             "splitting face {} of operand {}: {e}",
@@ -275,10 +350,134 @@ fn split_one(
             input.operand[t as usize]
         ))
     })?;
-    let to_global = |v: u32| local[v as usize];
+    let to_global = |v: u32| global[v as usize];
     Ok(TriangleSplit {
         triangle: t,
         triangles: split.triangles.iter().map(|s| s.map(to_global)).collect(),
         merged: split.merged.iter().map(|m| m.map(to_global)).collect(),
+        crossings,
     })
+}
+
+/// Finds the segments on triangle `t` that cross each other at a point inside both (only
+/// with three or more operands: each segment comes from another triangle), adds each
+/// crossing point to `points` and cuts the segments there. Returns the crossing points
+/// with their keys, in the order they were added.
+fn cut_crossing_segments(
+    input: &Input,
+    t: u32,
+    points: &mut Vec<Point>,
+    segments: &mut Vec<([u32; 2], Support)>,
+) -> Vec<(PointKey, Point)> {
+    if segments.len() < 2 {
+        return Vec::new();
+    }
+    let tri = &input.triangles[t as usize];
+    let corners = tri.positions().map(Point::Explicit);
+    let point = |points: &[Point], v: u32| -> Point {
+        match (v as usize).checked_sub(3) {
+            Some(i) => points[i],
+            None => corners[v as usize],
+        }
+    };
+    let drop = tri.drop_axis();
+    let boxes: Vec<Aabb> = (segments.iter())
+        .map(|(s, _)| {
+            let ends = [point(points, s[0]).approx(), point(points, s[1]).approx()];
+            Aabb::from_points(ends.iter())
+        })
+        .collect();
+    // Approximate coordinates are a few ulps off: widen the boxes of the filter.
+    let margin = {
+        let b = Aabb::from_points(tri.positions().iter());
+        1e-6 * (0..3).map(|k| b.max[k] - b.min[k]).fold(0.0, f64::max)
+    };
+    let mut cuts: Vec<(usize, u32)> = Vec::new(); // (segment, local point id)
+    let mut crossings: Vec<(PointKey, Point)> = Vec::new();
+    for i in 0..segments.len() {
+        for j in i + 1..segments.len() {
+            let ([a, b], sa) = segments[i];
+            let ([c, d], sb) = segments[j];
+            if a == c || a == d || b == c || b == d || !near(&boxes[i], &boxes[j], margin) {
+                continue;
+            }
+            let [pa, pb, pc, pd] = [a, b, c, d].map(|v| point(points, v));
+            let opposite = |x: Sign, y: Sign| x != Sign::Zero && x == y.flip();
+            if !opposite(
+                orient2d_projected(&pa, &pb, &pc, drop),
+                orient2d_projected(&pa, &pb, &pd, drop),
+            ) || !opposite(
+                orient2d_projected(&pc, &pd, &pa, drop),
+                orient2d_projected(&pc, &pd, &pb, drop),
+            ) {
+                continue;
+            }
+            let Some((key, x)) = crossing_point(input, t, sa, sb) else {
+                continue;
+            };
+            let id = match crossings.iter().position(|c| c.0 == key) {
+                Some(k) => 3 + (points.len() - crossings.len() + k) as u32,
+                None => {
+                    crossings.push((key, x));
+                    points.push(x);
+                    (2 + points.len()) as u32
+                }
+            };
+            cuts.push((i, id));
+            cuts.push((j, id));
+        }
+    }
+    if cuts.is_empty() {
+        return crossings;
+    }
+    cuts.sort_unstable();
+    let mut cut_segments = Vec::with_capacity(segments.len() + cuts.len());
+    for (i, &([a, b], support)) in segments.iter().enumerate() {
+        let start = cuts.partition_point(|c| c.0 < i);
+        let mut on: Vec<u32> = cuts[start..].iter().take_while(|c| c.0 == i).map(|c| c.1).collect();
+        on.sort_by(|&x, &y| compare_lex(&point(points, x), &point(points, y)));
+        let mut chain = vec![a];
+        if compare_lex(&point(points, a), &point(points, b)) == std::cmp::Ordering::Greater {
+            on.reverse();
+        }
+        chain.extend(on);
+        chain.push(b);
+        for w in chain.windows(2) {
+            cut_segments.push(([w[0].min(w[1]), w[0].max(w[1])], support));
+        }
+    }
+    cut_segments.sort_unstable_by_key(|s| s.0);
+    cut_segments.dedup_by_key(|s| s.0);
+    *segments = cut_segments;
+    crossings
+}
+
+fn near(a: &Aabb, b: &Aabb, margin: f64) -> bool {
+    (0..3).all(|k| a.min[k] - margin <= b.max[k] && b.min[k] - margin <= a.max[k])
+}
+
+/// The point where segments carried by `sa` and `sb` cross inside triangle `t`, with its
+/// canonical key; `None` for two segments on the same edge line (no single point).
+fn crossing_point(input: &Input, t: u32, sa: Support, sb: Support) -> Option<(PointKey, Point)> {
+    let tri = &input.triangles[t as usize];
+    let corners = |u: u32| input.triangles[u as usize].positions();
+    let pos = |e: [u32; 2]| e.map(|v| input.positions[v as usize]);
+    match (sa, sb) {
+        (Support::Plane(u), Support::Plane(w)) => {
+            let mut ids = [t, u, w];
+            ids.sort_unstable();
+            let point = Point::tpi(ids.map(corners))?;
+            Some((PointKey::Triple { triangles: ids }, point))
+        }
+        (Support::Plane(u), Support::Edge(e)) | (Support::Edge(e), Support::Plane(u)) => {
+            let [p, q] = pos(e);
+            let [r, s, v] = corners(u);
+            Some((PointKey::EdgeTriangle { edge: e, triangle: u }, Point::lpi(p, q, r, s, v)?))
+        }
+        (Support::Edge(e), Support::Edge(f)) => {
+            let edges = [e.min(f), e.max(f)];
+            let point = Point::edge_crossing(tri.positions(), pos(edges[0]), pos(edges[1]), tri.drop_axis())?;
+            Some((PointKey::EdgeEdge { edges }, point))
+        }
+    }
 }

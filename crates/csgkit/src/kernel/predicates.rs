@@ -292,6 +292,9 @@ pub fn orient2d_projected(a: &Point, b: &Point, c: &Point, drop: Axis) -> Sign {
     if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
         return orient2d([a[u], a[v]], [b[u], b[v]], [c[u], c[v]]);
     }
+    if collinear_by_construction(a, b, c) {
+        return Sign::Zero;
+    }
     let w = a.w_sign().times(b.w_sign()).times(c.w_sign());
     decide(&Det3 {
         pts: [a, b, c],
@@ -299,6 +302,30 @@ pub fn orient2d_projected(a: &Point, b: &Point, c: &Point, drop: Axis) -> Sign {
         v,
     })
     .times(w)
+}
+
+/// True when the three points lie on one line by definition: some point is an
+/// [`Lpi`](super::Lpi) and each is an endpoint of its line or another point defined on that
+/// line. The split stage asks this of the intersection points along a triangle's edge (all
+/// of them on the edge's line), and the answer saves the exact stages.
+fn collinear_by_construction(a: &Point, b: &Point, c: &Point) -> bool {
+    let line = [a, b, c].into_iter().find_map(|p| match p {
+        Point::Lpi(l) => {
+            let (s, t, _) = l.definition();
+            Some([s, t])
+        }
+        _ => None,
+    });
+    let Some(line) = line else { return false };
+    let on_line = |p: &Point| match p {
+        Point::Explicit(x) => line.contains(x),
+        Point::Lpi(l) => {
+            let (s, t, _) = l.definition();
+            line.contains(&s) && line.contains(&t) && s != t
+        }
+        Point::Tpi(_) => false,
+    };
+    on_line(a) && on_line(b) && on_line(c)
 }
 
 /// Order of `a` and `b` by their coordinate on `axis` (`Less` when `a`'s is smaller).
