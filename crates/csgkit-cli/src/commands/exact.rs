@@ -184,7 +184,6 @@ fn stats_json(
         "output_triangles": s.output_triangles,
         "output_vertices": result.mesh.vertex_count(),
         "valid_solid": report.valid_solid,
-        "edge_manifold": report.edge_manifold,
         "volume": report.measures.volume,
         "area": report.measures.area,
         "stages": stages,
