@@ -71,19 +71,23 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The exact engine on curved solids that cut each other inside the cube: a cube minus a
-/// sphere on one corner, a torus sunk halfway into the top face (it also meets the sphere) and
-/// a cylinder drilled through, as one n-ary difference.
+/// The exact engine on curved solids that cut each other inside the cube, as one n-ary
+/// difference: a cube minus a bowl (a sphere centred on the top face), a moat (a torus around
+/// the bowl, cutting into it) and a hole (a cylinder drilled through the middle).
+///
+/// The three cuts meet one another below the top face, but their traces on it are concentric
+/// circles: the pipeline does not yet split a face where two cutting curves cross (it reports
+/// such triple points as unsupported).
 ///
 /// A configuration the engine reports as unsupported is skipped with a note rather than
 /// failing the whole demo: the other showcases are already written and stay useful. Any other
 /// error is a bug and fails the demo.
 fn exact_showcase(args: &DemoArgs) -> anyhow::Result<()> {
     let cube = cuboid([-1.0; 3], [1.0; 3]);
-    let sphere = icosphere([1.0; 3], 0.8, 3);
-    let ring = torus([0.0, 0.0, 1.0], 0.7, 0.25, 48, 16);
-    let drill = cylinder([0.0, 0.0, -1.5], 0.3, 3.0, 32);
-    let operands = [&cube, &sphere, &ring, &drill];
+    let bowl = icosphere([0.0, 0.0, 1.0], 0.6, 3);
+    let moat = torus([0.0, 0.0, 1.0], 0.7, 0.25, 48, 16);
+    let hole = cylinder([0.0, 0.0, -1.5], 0.3, 3.0, 32);
+    let operands = [&cube, &bowl, &moat, &hole];
     let clock = Instant::now();
     let result = match boolean(Operation::Difference, &operands, &BooleanOptions::default()) {
         Ok(result) => result,
