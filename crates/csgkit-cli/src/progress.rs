@@ -1,8 +1,9 @@
 //! Progress bars on stderr for long operations, drawn by `indicatif`.
 //!
 //! The library reports progress through callbacks `(stage, done, total) -> keep going`; the
-//! command names the stage and this adapter turns the reports into one bar per stage. Bars are hidden when stderr is not a
-//! terminal (indicatif's default), so piped and scripted runs stay quiet.
+//! command names the stage and this adapter turns the reports into one bar per stage. Bars are
+//! hidden when stderr is not a terminal (indicatif's default), so piped and scripted runs stay
+//! quiet.
 
 use std::sync::Mutex;
 
