@@ -3,8 +3,9 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use csgkit::exact::Operation;
 
-use crate::commands::{self, boxes, demo};
+use crate::commands::{self, boxes, demo, exact};
 
 /// Exact boolean operations on 3D solids.
 #[derive(Parser, Debug)]
@@ -28,6 +29,18 @@ enum Command {
                             csgkit check --json part.stl"
     )]
     Check(commands::check::CheckArgs),
+    /// The exact union of two or more solids: the points in any operand.
+    #[command(after_help = "Examples:\n  \
+        csgkit union a.obj b.stl -o ab.obj\n  \
+        csgkit union a.obj b.obj c.obj -o abc.ply --manifold --stats")]
+    Union(exact::ExactArgs),
+    /// The exact intersection of two or more solids: the points in every operand.
+    #[command(after_help = "Example:\n  csgkit intersection a.obj b.obj -o common.obj")]
+    Intersection(exact::ExactArgs),
+    /// The exact difference: the first solid minus all the others.
+    #[command(after_help = "Example (the block minus both holes):\n  \
+        csgkit difference block.obj hole1.obj hole2.obj -o drilled.obj")]
+    Difference(exact::ExactArgs),
     /// The exact boundary of a union of axis-aligned boxes (.vox or a box text file).
     Boxes(boxes::BoxesArgs),
     /// Runs the engine on built-in data and writes its outputs.
@@ -47,6 +60,13 @@ pub fn run() -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Info(args) => commands::info::run(&args),
         Command::Check(args) => commands::check::run(&args),
+        Command::Union(args) => exact::run(Operation::Union, &args).map(|()| ExitCode::SUCCESS),
+        Command::Intersection(args) => {
+            exact::run(Operation::Intersection, &args).map(|()| ExitCode::SUCCESS)
+        }
+        Command::Difference(args) => {
+            exact::run(Operation::Difference, &args).map(|()| ExitCode::SUCCESS)
+        }
         Command::Boxes(args) => boxes::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Demo(args) => demo::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Discrete(args) => commands::discrete::run(&args),

@@ -1,8 +1,9 @@
 //! Progress bars on stderr for long operations, drawn by `indicatif`.
 //!
-//! The library reports progress through callbacks `(stage name, done, total) -> keep going`;
-//! this adapter turns them into one bar per stage. Bars are hidden when stderr is not a
-//! terminal (indicatif's default), so piped and scripted runs stay quiet.
+//! The library reports progress through callbacks `(stage, done, total) -> keep going`; the
+//! command names the stage and this adapter turns the reports into one bar per stage. Bars are
+//! hidden when stderr is not a terminal (indicatif's default), so piped and scripted runs stay
+//! quiet.
 
 use std::sync::Mutex;
 
@@ -10,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 /// A bar that follows the stages a long operation reports, one after the other.
 pub struct StageBar {
-    current: Mutex<Option<(&'static str, ProgressBar)>>,
+    current: Mutex<Option<(String, ProgressBar)>>,
 }
 
 impl StageBar {
@@ -23,17 +24,17 @@ impl StageBar {
     }
 
     /// Records that `stage` has done `done` of `total` units; never cancels.
-    pub fn update(&self, stage: &'static str, done: usize, total: usize) -> bool {
+    pub fn update(&self, stage: &str, done: usize, total: usize) -> bool {
         let mut current = self.current.lock().unwrap_or_else(|e| e.into_inner());
-        let same_stage = matches!(&*current, Some((name, _)) if *name == stage);
+        let same_stage = matches!(&*current, Some((name, _)) if name == stage);
         if !same_stage {
             if let Some((_, bar)) = current.take() {
                 bar.finish();
             }
             let bar = ProgressBar::new(total as u64)
                 .with_style(style())
-                .with_prefix(stage);
-            *current = Some((stage, bar));
+                .with_prefix(stage.to_owned());
+            *current = Some((stage.to_owned(), bar));
         }
         if let Some((_, bar)) = &*current {
             bar.set_position(done as u64);

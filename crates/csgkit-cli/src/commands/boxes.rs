@@ -97,16 +97,7 @@ pub fn run(args: &BoxesArgs) -> anyhow::Result<()> {
             out.unsplit_edges
         );
     }
-    if args.manifold
-        && args
-            .output
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("stl"))
-    {
-        eprintln!(
-            "csgkit: warning: STL stores positions, not vertices: the manifold split is lost"
-        );
-    }
+    super::warn_if_manifold_lost(args.manifold, &args.output);
     let mesh = with_colors(out.mesh, input.palette.as_deref());
     let write_clock = Instant::now();
     write_mesh(&args.output, &mesh, WriteOptions::default())

@@ -1,0 +1,231 @@
+//! `csgkit union | intersection | difference A B [C ...] -o OUT`: the exact mesh booleans.
+//!
+//! Reads every operand (any format [`csgkit::read_mesh`] reads), runs [`csgkit::exact::boolean`]
+//! once on all of them (`difference` is the first minus all others) and writes the result,
+//! whole or not at all, in the format the output's extension names.
+//!
+//! The library names a faulty operand by its index; errors here name it by its file, so
+//! `csgkit union a.obj b.obj` reports "b.obj: operand 1 is not closed …".
+//!
+//! `--stats` prints one JSON object, and nothing else, on stdout: the peers benchmark harness
+//! reads `op_seconds` from it. `op_seconds` is [`BooleanStats::op_seconds`], the pipeline
+//! without the self-intersection check (`validate_seconds`) and without file I/O
+//! (`read_seconds`, `write_seconds`); `stages` holds the seconds of every stage that ran, by
+//! its snake_case name.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use clap::Args;
+use csgkit::exact::{
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, Stage, boolean,
+};
+use csgkit::mesh::MeshReport;
+use csgkit::{Format, Mesh, WriteError, WriteOptions, write_mesh};
+use serde_json::json;
+
+use super::{load, warn_if_manifold_lost};
+use crate::progress::StageBar;
+
+/// Below this many input faces the boolean ends before a progress bar would help.
+const PROGRESS_MIN_FACES: usize = 20_000;
+
+/// Arguments of `csgkit union`, `intersection` and `difference`.
+#[derive(Args, Debug, Clone)]
+pub struct ExactArgs {
+    /// The operands: two or more closed, consistently oriented meshes (OBJ, STL, PLY or OFF).
+    #[arg(required = true, num_args = 2.., value_name = "FILE")]
+    pub inputs: Vec<PathBuf>,
+    /// The output mesh; its extension chooses the format (obj, ply, off, stl).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Split the result's non-manifold edges and vertices by duplicating vertices, so it is a
+    /// 2-manifold (lost in STL, which stores no shared vertices).
+    #[arg(long)]
+    pub manifold: bool,
+    /// Print one JSON object on stdout: counts, seconds per stage, and the result's validity,
+    /// volume and area.
+    #[arg(long)]
+    pub stats: bool,
+    /// Skip the exact self-intersection check of the operands, which costs about as much as
+    /// the boolean itself. Classification then assumes that no operand intersects itself; if
+    /// one does, the result may be wrong and no error says so.
+    #[arg(long)]
+    pub no_self_check: bool,
+}
+
+/// Runs `csgkit union`, `intersection` or `difference`.
+pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<()> {
+    // The format is settled before any work, so a mistyped extension costs nothing.
+    let format = Format::from_extension(&args.output).ok_or_else(|| WriteError::UnknownFormat {
+        path: args.output.clone(),
+    })?;
+    let clock = Instant::now();
+    let meshes = (args.inputs.iter())
+        .map(|path| load(path).map(|loaded| loaded.mesh))
+        .collect::<anyhow::Result<Vec<Mesh>>>()?;
+    let read_seconds = clock.elapsed().as_secs_f64();
+    let result = compute(op, args, &meshes)
+        .with_context(|| format!("cannot compute the {}", op_name(op)))?;
+    warn_if_manifold_lost(args.manifold, &args.output);
+    let clock = Instant::now();
+    let options = WriteOptions {
+        format: Some(format),
+        ..WriteOptions::default()
+    };
+    write_mesh(&args.output, &result.mesh, options)?;
+    let write_seconds = clock.elapsed().as_secs_f64();
+    if args.stats {
+        let seconds = IoSeconds {
+            read: read_seconds,
+            write: write_seconds,
+        };
+        let stats = stats_json(op, args, &meshes, &result, &result.mesh.report(), seconds);
+        println!("{stats}");
+    }
+    Ok(())
+}
+
+/// Runs the boolean with a bar per stage; an error about an operand names its file.
+fn compute(op: Operation, args: &ExactArgs, meshes: &[Mesh]) -> anyhow::Result<Boolean> {
+    let operands: Vec<&Mesh> = meshes.iter().collect();
+    let faces = meshes.iter().map(Mesh::face_count).sum();
+    let bar = StageBar::new(faces, PROGRESS_MIN_FACES);
+    let show = |stage: Stage, done: usize, total: usize| match &bar {
+        Some(bar) => bar.update(&stage_name(stage), done, total),
+        None => true,
+    };
+    let options = BooleanOptions {
+        check_self_intersections: !args.no_self_check,
+        split_non_manifold: args.manifold,
+        progress: Some(&show),
+    };
+    let result = boolean(op, &operands, &options);
+    bar.inspect(StageBar::finish);
+    result.map_err(|err| name_operand(err, &args.inputs))
+}
+
+/// The library's error, under the file name of the operand it names (if any).
+fn name_operand(err: BooleanError, inputs: &[PathBuf]) -> anyhow::Error {
+    let operand = match err {
+        BooleanError::NonFinite { operand, .. }
+        | BooleanError::NotClosed { operand, .. }
+        | BooleanError::Inverted { operand, .. }
+        | BooleanError::SelfIntersecting { operand, .. } => inputs.get(operand),
+        _ => None,
+    };
+    match operand {
+        Some(path) => anyhow::Error::new(err).context(path.display().to_string()),
+        None => err.into(),
+    }
+}
+
+/// The command's name for `op`, as in "cannot compute the union".
+fn op_name(op: Operation) -> &'static str {
+    match op {
+        Operation::Union => "union",
+        Operation::Intersection => "intersection",
+        Operation::Difference => "difference",
+    }
+}
+
+/// The snake_case name of a stage ("ingest", "validate", …), for the bars and the `stages`
+/// object of `--stats`. It is derived from the variant's name, so a stage the library adds
+/// later ([`Stage`] is non-exhaustive) gets its own name without a change here.
+fn stage_name(stage: Stage) -> String {
+    let mut name = String::new();
+    for (i, c) in format!("{stage:?}").char_indices() {
+        if c.is_ascii_uppercase() && i > 0 {
+            name.push('_');
+        }
+        name.push(c.to_ascii_lowercase());
+    }
+    name
+}
+
+/// The seconds spent reading the operands and writing the result.
+#[derive(Clone, Copy)]
+struct IoSeconds {
+    read: f64,
+    write: f64,
+}
+
+/// The `--stats` object.
+fn stats_json(
+    op: Operation,
+    args: &ExactArgs,
+    meshes: &[Mesh],
+    result: &Boolean,
+    report: &MeshReport,
+    seconds: IoSeconds,
+) -> serde_json::Value {
+    let s: &BooleanStats = &result.stats;
+    let inputs: Vec<_> = (args.inputs.iter().zip(meshes))
+        .map(|(path, mesh)| input_json(path, mesh))
+        .collect();
+    let stages: serde_json::Map<String, serde_json::Value> = (s.stage_seconds.iter())
+        .map(|&(stage, secs)| (stage_name(stage), secs.into()))
+        .collect();
+    let validate_seconds: f64 = (s.stage_seconds.iter())
+        .filter(|(stage, _)| *stage == Stage::Validate)
+        .map(|(_, secs)| secs)
+        .sum();
+    json!({
+        "command": op_name(op),
+        "inputs": inputs,
+        "self_check": !args.no_self_check,
+        "manifold": args.manifold,
+        "input_triangles": s.input_triangles,
+        "candidate_pairs": s.candidate_pairs,
+        "intersecting_pairs": s.intersecting_pairs,
+        "split_triangles": s.split_triangles,
+        "patches": s.patches,
+        "output_triangles": s.output_triangles,
+        "output_vertices": result.mesh.vertex_count(),
+        "valid_solid": report.valid_solid,
+        "volume": report.measures.volume,
+        "area": report.measures.area,
+        "stages": stages,
+        "read_seconds": seconds.read,
+        "validate_seconds": validate_seconds,
+        "op_seconds": s.op_seconds(),
+        "write_seconds": seconds.write,
+    })
+}
+
+/// One operand in `--stats`: its file and counts as read.
+fn input_json(path: &Path, mesh: &Mesh) -> serde_json::Value {
+    json!({
+        "file": path.display().to_string(),
+        "vertices": mesh.vertex_count(),
+        "faces": mesh.face_count(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stage_names_are_snake_case() {
+        let names: Vec<String> = [Stage::Ingest, Stage::Validate, Stage::Assemble]
+            .into_iter()
+            .map(stage_name)
+            .collect();
+        assert_eq!(names, ["ingest", "validate", "assemble"]);
+    }
+
+    #[test]
+    fn an_operand_error_names_the_file() {
+        let inputs = [PathBuf::from("a.obj"), PathBuf::from("dir/b.stl")];
+        let err = BooleanError::Inverted {
+            operand: 1,
+            volume: -1.0,
+        };
+        let message = format!("{:#}", name_operand(err, &inputs));
+        assert!(message.starts_with("dir/b.stl: operand 1 "), "{message}");
+        let message = format!("{:#}", name_operand(BooleanError::Cancelled, &inputs));
+        assert_eq!(message, "cancelled");
+    }
+}
