@@ -35,33 +35,67 @@ fn assert_volume(actual: f64, expected: f64, what: &str) {
 /// Volumes of ∪, ∩, − for two operands, checked against the expected values.
 fn check_all(a: &Mesh, b: &Mesh, union: f64, intersection: f64, difference: f64) {
     assert_volume(volume_of(Union, &[a, b]), union, "union");
-    assert_volume(volume_of(Intersection, &[a, b]), intersection, "intersection");
+    assert_volume(
+        volume_of(Intersection, &[a, b]),
+        intersection,
+        "intersection",
+    );
     assert_volume(volume_of(Difference, &[a, b]), difference, "difference");
 }
 
 #[test]
 fn cubes_sharing_a_face() {
-    check_all(&unit_cube_at(0.0, 0.0, 0.0), &unit_cube_at(1.0, 0.0, 0.0), 2.0, 0.0, 1.0);
+    check_all(
+        &unit_cube_at(0.0, 0.0, 0.0),
+        &unit_cube_at(1.0, 0.0, 0.0),
+        2.0,
+        0.0,
+        1.0,
+    );
 }
 
 #[test]
 fn cubes_sharing_part_of_a_face() {
-    check_all(&unit_cube_at(0.0, 0.0, 0.0), &unit_cube_at(1.0, 0.5, 0.5), 2.0, 0.0, 1.0);
+    check_all(
+        &unit_cube_at(0.0, 0.0, 0.0),
+        &unit_cube_at(1.0, 0.5, 0.5),
+        2.0,
+        0.0,
+        1.0,
+    );
 }
 
 #[test]
 fn cubes_sharing_an_edge() {
-    check_all(&unit_cube_at(0.0, 0.0, 0.0), &unit_cube_at(1.0, 1.0, 0.0), 2.0, 0.0, 1.0);
+    check_all(
+        &unit_cube_at(0.0, 0.0, 0.0),
+        &unit_cube_at(1.0, 1.0, 0.0),
+        2.0,
+        0.0,
+        1.0,
+    );
 }
 
 #[test]
 fn cubes_sharing_a_vertex() {
-    check_all(&unit_cube_at(0.0, 0.0, 0.0), &unit_cube_at(1.0, 1.0, 1.0), 2.0, 0.0, 1.0);
+    check_all(
+        &unit_cube_at(0.0, 0.0, 0.0),
+        &unit_cube_at(1.0, 1.0, 1.0),
+        2.0,
+        0.0,
+        1.0,
+    );
 }
 
 #[test]
 fn overlapping_cubes() {
-    check_all(&unit_cube_at(0.0, 0.0, 0.0), &unit_cube_at(0.5, 0.5, 0.5), 1.875, 0.125, 0.875);
+    check_all(
+        &unit_cube_at(0.0, 0.0, 0.0),
+        &unit_cube_at(0.5, 0.5, 0.5),
+        1.875,
+        0.125,
+        0.875,
+    );
 }
 
 #[test]

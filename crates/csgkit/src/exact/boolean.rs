@@ -7,7 +7,6 @@ use crate::mesh::{FaceId, Mesh};
 
 use super::{assemble, broad, classify, ingest, select, subdivide};
 
-
 /// A boolean operation on solids.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Operation {
@@ -264,7 +263,9 @@ pub fn boolean(
     let kept = select::select(op, &input, &arrangement, &labels);
     let mesh = assemble::assemble(&input, &arrangement, &kept);
     if options.split_non_manifold {
-        return Err(BooleanError::Unsupported("--manifold is not wired yet".into()));
+        return Err(BooleanError::Unsupported(
+            "--manifold is not wired yet".into(),
+        ));
     }
     stats.output_triangles = mesh.face_count();
     clock.finish(Stage::Assemble, &mut stats)?;

@@ -51,7 +51,9 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         let mut pairs: Vec<(u32, u32)> = (tree.self_overlapping_pairs().into_par_iter())
             .filter(|&(s, t)| input.operand[s as usize] != input.operand[t as usize])
             .collect();
-        pairs.par_iter_mut().for_each(|p| *p = (p.0.min(p.1), p.0.max(p.1)));
+        pairs
+            .par_iter_mut()
+            .for_each(|p| *p = (p.0.min(p.1), p.0.max(p.1)));
         pairs
     };
     pairs.par_sort_unstable();

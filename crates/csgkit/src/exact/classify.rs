@@ -36,9 +36,7 @@
 use rayon::prelude::*;
 
 use crate::index::{Aabb, Bvh};
-use crate::kernel::{
-    Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane,
-};
+use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane};
 use crate::mesh::union_find::UnionFind;
 
 use super::boolean::BooleanError;
@@ -361,7 +359,11 @@ fn crossing(tri: [Point3; 3], v: Point3) -> i32 {
     let side = |x: [f64; 2], y: [f64; 2]| match orient2d(x, y, p) {
         Sign::Zero => {
             let s = Sign::of(x[1] - y[1]);
-            if s != Sign::Zero { s } else { Sign::of(y[0] - x[0]) }
+            if s != Sign::Zero {
+                s
+            } else {
+                Sign::of(y[0] - x[0])
+            }
         }
         s => s,
     };
@@ -397,7 +399,11 @@ fn local_labels(
             continue;
         }
         let group = edges.group(g);
-        let mut others: Vec<u32> = group.iter().map(|r| r.operand).filter(|&k| k != own).collect();
+        let mut others: Vec<u32> = group
+            .iter()
+            .map(|r| r.operand)
+            .filter(|&k| k != own)
+            .collect();
         others.dedup();
         for k in others {
             if touched.contains(&k) {
@@ -405,7 +411,10 @@ fn local_labels(
             }
             let faces: Vec<&EdgeRecord> = group.iter().filter(|r| r.operand == k).collect();
             if let [f, h] = faces[..] {
-                let me = group.iter().find(|r| r.face == face).expect("the face is in its group");
+                let me = group
+                    .iter()
+                    .find(|r| r.face == face)
+                    .expect("the face is in its group");
                 if let Some(label) = wedge_test(input, arr, me, f, h) {
                     touched.push(k);
                     if let Some(label) = label {
@@ -436,7 +445,9 @@ fn wedge_test(
     let (a, b) = ((me.key >> 32) as u32, me.key as u32);
     let third = |face: u32| -> u32 {
         let tri = arr.triangles[face as usize];
-        *tri.iter().find(|&&v| v != a && v != b).expect("a triangle has three vertices")
+        *tri.iter()
+            .find(|&&v| v != a && v != b)
+            .expect("a triangle has three vertices")
     };
     let plane = |face: u32| input.triangles[arr.source[face as usize] as usize].positions();
     let drop = |face: u32| input.triangles[arr.source[face as usize] as usize].drop_axis();
@@ -450,7 +461,11 @@ fn wedge_test(
             let axis = drop(r.face);
             if orient2d_projected(&pa, &pb, &d, axis) == orient2d_projected(&pa, &pb, &x, axis) {
                 let same = me.forward == r.forward;
-                return Some(Some(if same { Label::OnSame } else { Label::OnOpposite }));
+                return Some(Some(if same {
+                    Label::OnSame
+                } else {
+                    Label::OnOpposite
+                }));
             }
         }
     }

@@ -77,14 +77,22 @@ impl Input {
 /// naming the first operand that fails.
 pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     for (k, mesh) in operands.iter().enumerate() {
-        if let Some(v) = mesh.positions().iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+        if let Some(v) = mesh
+            .positions()
+            .iter()
+            .position(|p| !p.iter().all(|x| x.is_finite()))
+        {
             return Err(BooleanError::NonFinite {
                 operand: k,
                 vertex: v as u32,
             });
         }
     }
-    let raw: Vec<Point3> = operands.iter().flat_map(|m| m.positions()).copied().collect();
+    let raw: Vec<Point3> = operands
+        .iter()
+        .flat_map(|m| m.positions())
+        .copied()
+        .collect();
     let scale = power_of_two_scale(&raw);
     let welding = weld_positions(&raw);
     let positions: Vec<Point3> = (welding.representatives.iter())
@@ -258,7 +266,8 @@ pub(crate) fn check_self_intersections(input: &Input) -> Result<(), BooleanError
         let pairs = intersecting_pairs(triangles);
         if !pairs.is_empty() {
             let face = |t: u32| input.face[range.start + t as usize];
-            let mut faces: Vec<(FaceId, FaceId)> = pairs.iter().map(|&(s, t)| (face(s), face(t))).collect();
+            let mut faces: Vec<(FaceId, FaceId)> =
+                pairs.iter().map(|&(s, t)| (face(s), face(t))).collect();
             faces.dedup();
             return Err(BooleanError::SelfIntersecting {
                 operand: k,

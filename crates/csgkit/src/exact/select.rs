@@ -114,7 +114,11 @@ mod tests {
         for (op, own, label, expected) in cases {
             let other = 1 - own;
             let labels: Vec<(u32, Label)> = label.map(|l| (other, l)).into_iter().collect();
-            assert_eq!(decide(op, 2, own, &labels), expected, "{op:?} {own} {label:?}");
+            assert_eq!(
+                decide(op, 2, own, &labels),
+                expected,
+                "{op:?} {own} {label:?}"
+            );
         }
     }
 }

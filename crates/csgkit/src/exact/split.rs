@@ -212,7 +212,9 @@ impl Projection {
     /// other triangle's plane, or on its edges), and exactly collinear triples would
     /// otherwise go to the slow exact stages of the kernel.
     fn on_another_plane(&self, a: &Point, b: &Point, c: &Point) -> bool {
-        let Some(own) = self.corners else { return false };
+        let Some(own) = self.corners else {
+            return false;
+        };
         let candidate = [a, b, c].into_iter().find_map(|p| match p {
             Point::Lpi(l) => {
                 let (_, _, plane) = l.definition();

@@ -33,6 +33,9 @@ use super::intersect::{Contact, Feature, Intersection, PointKey, Triangle, inter
 use super::split::split_triangle;
 
 /// What one intersecting pair puts on one of its triangles.
+// Points and segments are about equally many, so boxing the point would only add an
+// allocation per mark.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug)]
 enum Mark {
     /// A contact point.
@@ -280,18 +283,27 @@ fn number_crossings(
     if found.is_empty() {
         return points;
     }
-    found.sort_unstable_by(|x, y| x.0.cmp(&y.0));
+    found.sort_unstable_by_key(|x| x.0);
     found.dedup_by(|x, y| x.0 == y.0);
     let first = (input.positions.len() + points.len()) as u32;
     let id_of = |key: &PointKey| {
-        first + found.binary_search_by(|x| x.0.cmp(key)).expect("every crossing was found") as u32
+        first
+            + found
+                .binary_search_by(|x| x.0.cmp(key))
+                .expect("every crossing was found") as u32
     };
     for s in splits.iter_mut() {
         if s.crossings.is_empty() {
             continue;
         }
         let global: Vec<u32> = s.crossings.iter().map(|(key, _)| id_of(key)).collect();
-        let fix = |v: u32| if v & CROSSING != 0 { global[(v & !CROSSING) as usize] } else { v };
+        let fix = |v: u32| {
+            if v & CROSSING != 0 {
+                global[(v & !CROSSING) as usize]
+            } else {
+                v
+            }
+        };
         for tri in &mut s.triangles {
             *tri = tri.map(fix);
         }
@@ -434,7 +446,11 @@ fn cut_crossing_segments(
     let mut cut_segments = Vec::with_capacity(segments.len() + cuts.len());
     for (i, &([a, b], support)) in segments.iter().enumerate() {
         let start = cuts.partition_point(|c| c.0 < i);
-        let mut on: Vec<u32> = cuts[start..].iter().take_while(|c| c.0 == i).map(|c| c.1).collect();
+        let mut on: Vec<u32> = cuts[start..]
+            .iter()
+            .take_while(|c| c.0 == i)
+            .map(|c| c.1)
+            .collect();
         on.sort_by(|&x, &y| compare_lex(&point(points, x), &point(points, y)));
         let mut chain = vec![a];
         if compare_lex(&point(points, a), &point(points, b)) == std::cmp::Ordering::Greater {
@@ -472,11 +488,22 @@ fn crossing_point(input: &Input, t: u32, sa: Support, sb: Support) -> Option<(Po
         (Support::Plane(u), Support::Edge(e)) | (Support::Edge(e), Support::Plane(u)) => {
             let [p, q] = pos(e);
             let [r, s, v] = corners(u);
-            Some((PointKey::EdgeTriangle { edge: e, triangle: u }, Point::lpi(p, q, r, s, v)?))
+            Some((
+                PointKey::EdgeTriangle {
+                    edge: e,
+                    triangle: u,
+                },
+                Point::lpi(p, q, r, s, v)?,
+            ))
         }
         (Support::Edge(e), Support::Edge(f)) => {
             let edges = [e.min(f), e.max(f)];
-            let point = Point::edge_crossing(tri.positions(), pos(edges[0]), pos(edges[1]), tri.drop_axis())?;
+            let point = Point::edge_crossing(
+                tri.positions(),
+                pos(edges[0]),
+                pos(edges[1]),
+                tri.drop_axis(),
+            )?;
             Some((PointKey::EdgeEdge { edges }, point))
         }
     }
