@@ -1,11 +1,11 @@
 //! The **assemble** stage (`design/exact.md`, stage 8): the output mesh.
 //!
 //! Vertices the kept sub-triangles use are numbered in order of first use; an intersection
-//! point is rounded to f64 here, once ([`Point::approx`](crate::kernel::Point)), and every
+//! point is rounded to the nearest f64 here, once (exact big-integer division), and every
 //! coordinate is scaled back by the inverse of the ingest power of two (exact). Each face
 //! records its provenance: the operand and the original face it lies on.
 
-use crate::kernel::Point;
+use crate::kernel::round_point;
 use crate::mesh::{Mesh, MeshParts, OperandId, Provenance};
 
 use super::ingest::Input;
@@ -27,11 +27,7 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, kept: &Kept) -> Mesh {
         for v in tri {
             if new_id[v as usize] == u32::MAX {
                 new_id[v as usize] = positions.len() as u32;
-                let p = match arr.point(input, v) {
-                    Point::Explicit(p) => p,
-                    implicit => implicit.approx(),
-                };
-                positions.push(p.map(|x| x * unscale));
+                positions.push(round_point(&arr.point(input, v)).map(|x| x * unscale));
             }
             corners.push(new_id[v as usize]);
         }

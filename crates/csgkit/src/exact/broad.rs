@@ -2,8 +2,8 @@
 //! operands whose bounding boxes overlap.
 //!
 //! Only triangles inside the region where operands overlap are indexed. Two operands: one
-//! [`Bvh`] per operand over its triangles in the overlap of both operand boxes, queried
-//! against each other. More: one tree over every triangle that meets another operand's box,
+//! [`Bvh`] over the smaller operand's triangles in the overlap of both operand boxes, queried
+//! by each of the other operand's triangles there, in parallel. More: one tree over every triangle that meets another operand's box,
 //! queried against itself, keeping pairs of different operands. Output order is
 //! deterministic (the BVH queries are), then sorted.
 
@@ -30,13 +30,25 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         if region.is_empty() {
             return Vec::new();
         }
+        // One tree over the smaller operand, queried by each triangle of the other in the
+        // region: cheaper than building a second tree for a one-shot query.
         let (a, b) = (input.operand_triangles(0), input.operand_triangles(1));
-        let offset = b.start as u32;
-        let tree_a = Bvh::build_in(&boxes[a], &region);
-        let tree_b = Bvh::build_in(&boxes[b], &region);
-        (tree_a.overlapping_pairs(&tree_b).into_iter())
-            .map(|(s, t)| (s, t + offset))
-            .collect()
+        let (small, large) = if a.len() <= b.len() { (a, b) } else { (b, a) };
+        let tree = Bvh::build_in(&boxes[small.clone()], &region);
+        let offset = small.start as u32;
+        let found: Vec<Vec<(u32, u32)>> = large
+            .into_par_iter()
+            .filter(|&t| boxes[t].overlaps(&region))
+            .map(|t| {
+                let mut hits = Vec::new();
+                tree.visit_overlapping(&boxes[t], |s| {
+                    let s = s + offset;
+                    hits.push((s.min(t as u32), s.max(t as u32)));
+                });
+                hits
+            })
+            .collect();
+        found.concat()
     } else {
         let operand_tree = Bvh::build(&input.operand_boxes);
         let near_other: Vec<Aabb> = (0..boxes.len())

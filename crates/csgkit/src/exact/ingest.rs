@@ -105,15 +105,13 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     let mut operand_starts = vec![0u32];
     let mut vertex_offset = 0usize;
     for (k, mesh) in operands.iter().enumerate() {
-        for (f, corners) in mesh.fan_triangles() {
-            let ids = corners.map(|v| welding.remap[vertex_offset + v as usize]);
-            let pts = ids.map(|v| positions[v as usize]);
+        let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
+        let kept: Vec<(FaceId, Triangle)> = operand_triangles(mesh, remap, &positions);
+        operand.extend(std::iter::repeat_n(k as u32, kept.len()));
+        for (f, t) in kept {
             let id = triangles.len() as u32;
-            if let Some(t) = Triangle::new(id, ids, pts) {
-                triangles.push(t);
-                operand.push(k as u32);
-                face.push(f);
-            }
+            triangles.push(t.with_id(id));
+            face.push(f);
         }
         vertex_offset += mesh.vertex_count();
         operand_starts.push(triangles.len() as u32);
@@ -121,9 +119,9 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     let operand_boxes = (0..operands.len())
         .map(|k| {
             let range = operand_starts[k] as usize..operand_starts[k + 1] as usize;
-            (triangles[range].iter()).fold(Aabb::EMPTY, |b, t| {
-                t.positions().iter().fold(b, |b, p| b.union_point(p))
-            })
+            (triangles[range].par_iter())
+                .map(|t| Aabb::from_points(t.positions().iter()))
+                .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
         })
         .collect();
     let mut input = Input {
@@ -147,6 +145,22 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
         }
     }
     Ok(input)
+}
+
+/// The non-degenerate fan triangles of one operand over the welded vertices (`remap` maps
+/// its vertices to welded ids), with their faces; triangle meshes in parallel.
+fn operand_triangles(mesh: &Mesh, remap: &[u32], positions: &[Point3]) -> Vec<(FaceId, Triangle)> {
+    let make = |f: FaceId, corners: [u32; 3]| {
+        let ids = corners.map(|v| remap[v as usize]);
+        Triangle::new(0, ids, ids.map(|v| positions[v as usize])).map(|t| (f, t))
+    };
+    if mesh.is_triangle_mesh() {
+        (mesh.corners().par_chunks_exact(3).enumerate())
+            .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]))
+            .collect()
+    } else {
+        mesh.fan_triangles().filter_map(|(f, c)| make(f, c)).collect()
+    }
 }
 
 /// The first vertex index of each operand in the concatenated positions.
@@ -186,19 +200,39 @@ fn link_edges(
     remap: &[u32],
     offsets: &[usize],
 ) -> Result<Vec<u32>, BooleanError> {
-    // One record per side: (smaller vertex, larger vertex, operand, side index, forward).
-    let mut sides: Vec<(u64, u32, u32)> = (input.triangles.par_iter().enumerate())
-        .flat_map_iter(|(t, tri)| {
-            let v = tri.vertices();
-            let k = input.operand[t];
-            (0..3).map(move |i| {
-                let (a, b) = (v[i], v[(i + 1) % 3]);
-                let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
-                (key, k, ((3 * t + i) as u32) << 1 | u32::from(a < b))
-            })
-        })
-        .collect();
-    sides.par_sort_unstable();
+    // One record per side, bucketed by its smaller vertex (a counting sort: linear, unlike
+    // one sort of all sides), then each small bucket sorted by (larger vertex, operand).
+    let side_count = 3 * input.triangles.len();
+    let ends = |side: usize| {
+        let v = input.triangles[side / 3].vertices();
+        (v[side % 3], v[(side % 3 + 1) % 3])
+    };
+    let mut bucket_starts = vec![0u32; input.positions.len() + 1];
+    for side in 0..side_count {
+        let (a, b) = ends(side);
+        bucket_starts[a.min(b) as usize + 1] += 1;
+    }
+    for v in 1..bucket_starts.len() {
+        bucket_starts[v] += bucket_starts[v - 1];
+    }
+    let mut next = bucket_starts.clone();
+    // (key, operand, side << 1 | forward) with key = smaller << 32 | larger.
+    let mut sides = vec![(0u64, 0u32, 0u32); side_count];
+    for side in 0..side_count {
+        let (a, b) = ends(side);
+        let slot = &mut next[a.min(b) as usize];
+        let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+        sides[*slot as usize] = (key, input.operand[side / 3], (side as u32) << 1 | u32::from(a < b));
+        *slot += 1;
+    }
+    let mut rest = sides.as_mut_slice();
+    let mut buckets = Vec::with_capacity(bucket_starts.len());
+    for w in bucket_starts.windows(2) {
+        let (bucket, tail) = rest.split_at_mut((w[1] - w[0]) as usize);
+        buckets.push(bucket);
+        rest = tail;
+    }
+    buckets.par_iter_mut().for_each(|b| b.sort_unstable());
     let mut neighbours = vec![NO_NEIGHBOUR; sides.len()];
     let mut unbalanced: Vec<Vec<[u32; 2]>> = vec![Vec::new(); operands.len()];
     let mut unbalanced_count = vec![0usize; operands.len()];

@@ -1,7 +1,7 @@
 //! The exact mesh-boolean engine (`design/exact.md`): booleans on polygon meshes with every
 //! topological decision exact.
 //!
-//! # Pipeline plan
+//! # Pipeline
 //! Data flows forward through one module per stage (Freixas, Grau & Silva's subdivision,
 //! classification and reconstruction, made exact):
 //! 1. **ingest** — weld bit-identical vertices, fan-triangulate polygons keeping the face id,
@@ -13,13 +13,15 @@
 //!    [`PointKey`]. Built on it: [`self_intersections`], the exact self-intersection check of
 //!    one mesh.
 //! 4. **split** — [`split_triangle`]: the exact constrained triangulation of one triangle with
-//!    the intersection points and segments that lie on it.
+//!    the intersection points and segments that lie on it (`subdivide` runs both stages over
+//!    all pairs and triangles).
 //! 5. **classify** — inside / outside / on of every patch against the other operands.
-//! 6. **select** — keep patches by the operation's table.
+//! 6. **select** — keep patches by the operation's table, written on winding numbers.
 //! 7. **assemble** — round implicit points once, build the output mesh with provenance.
 //!
-//! Only **intersect** and **split** exist so far; the exact predicates they use are in
-//! [`kernel`](crate::kernel).
+//! [`boolean`] runs them in order; the exact predicates are in [`kernel`](crate::kernel).
+//! Reconstruction (merging sub-triangles back into polygons) is not built yet: the output is
+//! triangles.
 
 mod assemble;
 mod boolean;

@@ -96,6 +96,11 @@ pub(crate) fn decompose(x: f64) -> (i64, i32) {
 }
 
 impl Big {
+    /// The exact integer.
+    pub(crate) fn value(&self) -> &BigInt {
+        &self.0
+    }
+
     /// The constant 1 (the `W` of an explicit point; not scaled).
     pub(crate) fn one() -> Self {
         Big(BigInt::from(1))

@@ -96,6 +96,7 @@ mod implicit;
 mod interval;
 mod orient;
 mod predicates;
+mod rounding;
 
 #[cfg(test)]
 pub(crate) mod oracle;
@@ -103,6 +104,7 @@ pub(crate) mod oracle;
 mod tests;
 
 pub use implicit::{Lpi, Point, Point3, Tpi};
+pub(crate) use rounding::round_point;
 pub use orient::{orient2d, orient3d};
 pub use predicates::{
     compare_along, compare_lex, orient2d_projected, orient3d_plane, orient3d_points, same_point,

@@ -1,0 +1,134 @@
+//! Rounding an implicit point to the nearest f64 coordinates: once per output vertex, in the
+//! assemble stage of the exact engine.
+//!
+//! The homogeneous coordinates are evaluated exactly with big integers (every input scaled by
+//! the same power of two), and each quotient `X / W` is rounded to nearest, ties to even, by
+//! one big-integer division with a sticky bit. A point whose coordinates are representable
+//! (a crossing on an axis-aligned plane, say) therefore comes out exactly.
+
+use num_bigint::BigInt;
+
+use super::arith::{Big, decompose};
+use super::implicit::{Point, Point3};
+
+/// The coordinates of `p` rounded to the nearest f64 (ties to even), each independently.
+pub(crate) fn round_point(p: &Point) -> Point3 {
+    if let Point::Explicit(x) = p {
+        return *x;
+    }
+    let e_low = (p.coords().iter())
+        .filter(|&&x| x != 0.0)
+        .map(|&x| decompose(x).1)
+        .min()
+        .unwrap_or(0);
+    let conv = |x: f64| Big::scaled(x, e_low);
+    let [x, y, z, w] = p.hom(&conv, &Big::one());
+    // Coordinates are X / W; the extra input degree of X over W leaves one factor 2^e_low.
+    [x, y, z].map(|n| round_quotient(n.value(), w.value(), e_low))
+}
+
+/// `n / d * 2^e` rounded to the nearest f64, ties to even; `d` nonzero. The result is assumed
+/// to be a normal number or zero (intersection points lie among finite inputs).
+fn round_quotient(n: &BigInt, d: &BigInt, e: i32) -> f64 {
+    use num_bigint::Sign;
+    if n.sign() == Sign::NoSign {
+        return 0.0;
+    }
+    let negative = (n.sign() == Sign::Minus) != (d.sign() == Sign::Minus);
+    let (n, d) = (n.magnitude(), d.magnitude());
+    // Scale so that the integer quotient has 55 or 56 bits: 53 kept, one to round, one spare.
+    let k = 55 + d.bits() as i64 - n.bits() as i64;
+    let (q, r) = if k >= 0 {
+        let num = n << (k as u64);
+        (&num / d, &num % d)
+    } else {
+        let den = d << ((-k) as u64);
+        (n / &den, n % &den)
+    };
+    let sticky = r.bits() > 0;
+    let q: u64 = q.try_into().expect("the quotient has at most 56 bits");
+    let shift = 64 - q.leading_zeros() as i32 - 53;
+    let mut mantissa = q >> shift;
+    let dropped = q & ((1u64 << shift) - 1);
+    let half = 1u64 << (shift - 1);
+    if dropped > half || (dropped == half && (sticky || mantissa & 1 == 1)) {
+        mantissa += 1;
+    }
+    // value = mantissa * 2^(shift + e - k); mantissa <= 2^53 is exact as an f64.
+    let exp = shift as i64 + e as i64 - k;
+    let magnitude = times_pow2(mantissa as f64, exp);
+    if negative { -magnitude } else { magnitude }
+}
+
+/// `x * 2^exp`, by steps that keep each factor a normal power of two.
+fn times_pow2(mut x: f64, mut exp: i64) -> f64 {
+    while exp != 0 {
+        let step = exp.clamp(-1000, 1000);
+        x *= f64::from_bits(((step + 1023) as u64) << 52);
+        exp -= step;
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::oracle;
+    use num_traits::Signed;
+
+    #[test]
+    fn representable_crossings_round_exactly() {
+        // The segment (0,0,0)-(4,2,6) meets the plane z = 3 at (2, 1, 3).
+        let p = Point::lpi(
+            [0.0, 0.0, 0.0],
+            [4.0, 2.0, 6.0],
+            [0.0, 0.0, 3.0],
+            [1.0, 0.0, 3.0],
+            [0.0, 1.0, 3.0],
+        )
+        .expect("the segment crosses the plane");
+        assert_eq!(round_point(&p), [2.0, 1.0, 3.0]);
+    }
+
+    #[test]
+    fn a_third_rounds_to_nearest() {
+        // The segment (0,0,0)-(3,3,3) meets the plane x = 1 at (1, 1, 1); (0,0,0)-(3,1,0)
+        // meets x = 1 at (1, 1/3, 0).
+        let p = Point::lpi(
+            [0.0, 0.0, 0.0],
+            [3.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 0.0, 1.0],
+        )
+        .expect("the segment crosses the plane");
+        assert_eq!(round_point(&p), [1.0, 1.0 / 3.0, 0.0]);
+    }
+
+    #[test]
+    fn rounding_agrees_with_the_rational_oracle() {
+        let mut seed = 0x1234_5678_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 200.0 - 100.0
+        };
+        for _ in 0..500 {
+            let mut pt = || [next(), next(), next()];
+            let (p, q, r, s, t) = (pt(), pt(), pt(), pt(), pt());
+            let Some(x) = Point::lpi(p, q, r, s, t) else {
+                continue;
+            };
+            let rounded = round_point(&x);
+            let exact = oracle::oracle_point(&x);
+            for k in 0..3 {
+                // No neighbouring f64 is strictly closer to the exact coordinate.
+                let error = |y: f64| (oracle::q(y) - &exact[k]).abs();
+                let own = error(rounded[k]);
+                assert!(own <= error(rounded[k].next_up()), "coordinate {k}");
+                assert!(own <= error(rounded[k].next_down()), "coordinate {k}");
+            }
+        }
+    }
+}
