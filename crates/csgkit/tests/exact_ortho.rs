@@ -51,23 +51,16 @@ fn cross_check(boxes: &[[f64; 6]]) {
         exact_report.topology.unbalanced_edges,
         exact_report.topology.misoriented_edges
     );
-    let (exact_volume, ortho_volume) = (exact_volume(&exact), exact_volume(&ortho));
+    let (volume_e, volume_o) = (exact_volume(&exact), exact_volume(&ortho));
     assert!(
-        exact_volume == ortho_volume,
-        "volume: exact {} vs ortho {} (as f64: {} vs {})",
-        exact_volume,
-        ortho_volume,
+        volume_e == volume_o,
+        "volume: exact {volume_e} vs ortho {volume_o} (as f64: {} vs {})",
         exact_report.measures.volume,
         ortho_report.measures.volume
     );
-    let ortho_area_q = axis_aligned_area(&ortho).unwrap_or_else(|e| panic!("ortho: {e}"));
-    let exact_area_q = axis_aligned_area(&exact).unwrap_or_else(|e| panic!("exact: {e}"));
-    assert!(
-        exact_area_q == ortho_area_q,
-        "area: exact {} vs ortho {}",
-        exact_area_q,
-        ortho_area_q
-    );
+    let area_o = axis_aligned_area(&ortho).unwrap_or_else(|e| panic!("ortho: {e}"));
+    let area_e = axis_aligned_area(&exact).unwrap_or_else(|e| panic!("exact: {e}"));
+    assert!(area_e == area_o, "area: exact {area_e} vs ortho {area_o}");
     let (exact_area, ortho_area) = (exact_report.measures.area, ortho_report.measures.area);
     assert!(
         (exact_area - ortho_area).abs() <= 1e-12 * ortho_area,
@@ -133,4 +126,39 @@ fn staircase_on_a_plate() {
         [4.0, 0.0, 1.0, 5.0, 4.0, 4.0],
     ];
     cross_check(&boxes);
+}
+
+// Reduced cases of the failures above (smallest found by deleting and shrinking boxes).
+
+/// Two boxes with coplanar faces (x = 1, y = 0, y = 1, z = 0, z = 2): the crossings of their
+/// face diagonals are rounded to f64. Rounded to the nearest f64 they keep their plane
+/// coordinate exactly; the union must stay axis-aligned.
+#[test]
+fn two_boxes_with_coplanar_faces() {
+    cross_check(&[
+        [0.0, 0.0, 0.0, 3.0, 1.0, 2.0],
+        [0.0, 0.0, 0.0, 1.0, 1.0, 3.0],
+    ]);
+}
+
+/// Three boxes whose faces coincide in the planes x = 0 and z = 1 (every pair alone works):
+/// inside one triangle, the edges of the two other operands cross.
+#[test]
+fn three_boxes_with_three_coplanar_faces() {
+    cross_check(&[
+        [0.0, 1.0, 1.0, 1.0, 2.0, 2.0],
+        [0.0, 0.0, 0.0, 1.0, 2.0, 1.0],
+        [0.0, 1.0, 0.0, 2.0, 2.0, 1.0],
+    ]);
+}
+
+/// Three unit cubes in a row sharing faces, and a fourth far away (each part alone works).
+#[test]
+fn chain_of_cubes_and_a_disjoint_cube() {
+    cross_check(&[
+        [0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        [1.0, 0.0, 0.0, 2.0, 1.0, 1.0],
+        [2.0, 0.0, 0.0, 3.0, 1.0, 1.0],
+        [10.0, 10.0, 10.0, 11.0, 11.0, 11.0],
+    ]);
 }
