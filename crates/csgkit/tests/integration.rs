@@ -6,6 +6,12 @@ mod util;
 mod discrete_cases;
 // The exact engine: the degenerate suite of design/exact.md with exact volumes.
 mod exact_cases;
+// The exact engine against the orthogonal engine: unions of random integer boxes.
+mod exact_ortho;
+// The exact engine's properties (proptest) on random convex solids and box sets; error paths.
+mod exact_props;
+// The exact engine on real meshes of the shared data folder: valid solids, volume identities.
+mod exact_real;
 // Every shared data mesh loads with the manifest's counts; formats round-trip.
 mod io_formats;
 // Truncated, corrupted and random bytes make no reader panic.

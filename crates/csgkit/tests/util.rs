@@ -24,3 +24,91 @@ pub fn repo_data(name: &str) -> PathBuf {
         .join("tests/data")
         .join(name)
 }
+
+/// The rotation by `angle` radians about `axis` (any non-zero length), by Rodrigues' formula.
+pub fn rotation(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
+    let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    let [x, y, z] = axis.map(|a| a / norm);
+    let (s, c) = angle.sin_cos();
+    let t = 1.0 - c;
+    [
+        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+    ]
+}
+
+/// `mesh` with every position `p` replaced by `rotation · p + translation` (rounded to f64);
+/// faces and attributes are kept.
+pub fn transformed(
+    mesh: &csgkit::Mesh,
+    rotation: &[[f64; 3]; 3],
+    translation: [f64; 3],
+) -> csgkit::Mesh {
+    let mut parts = mesh.clone().into_parts();
+    for p in &mut parts.positions {
+        let q = *p;
+        *p = std::array::from_fn(|i| {
+            rotation[i][0] * q[0] + rotation[i][1] * q[1] + rotation[i][2] * q[2] + translation[i]
+        });
+    }
+    csgkit::Mesh::from_parts(parts).expect("moving vertices keeps the invariants")
+}
+
+/// `mesh` moved by `offset` (rounded to f64).
+pub fn translated(mesh: &csgkit::Mesh, offset: [f64; 3]) -> csgkit::Mesh {
+    let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    transformed(mesh, &identity, offset)
+}
+
+/// The signed volume of `mesh`, exactly: the sum of its fan triangles' determinants, over 6,
+/// in rational arithmetic on the f64 coordinates.
+pub fn exact_volume(mesh: &csgkit::Mesh) -> num_rational::BigRational {
+    use num_rational::BigRational as Q;
+    use num_traits::Zero;
+    let q = |x: f64| Q::from_float(x).expect("finite coordinate");
+    let mut volume6 = Q::zero();
+    for (_, corners) in mesh.fan_triangles() {
+        let [a, b, c] = corners.map(|v| mesh.positions()[v as usize].map(q));
+        volume6 += &a[0] * (&b[1] * &c[2] - &b[2] * &c[1])
+            - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0])
+            + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
+    }
+    volume6 / Q::from_integer(6.into())
+}
+
+/// The area of `mesh`, exactly, when every triangle lies in an axis-aligned plane (its
+/// normal has one non-zero component, whose absolute value is twice its area); otherwise
+/// the first triangle that does not, with its corners.
+///
+/// Boxes and their unions have only such faces. An output vertex that is a rounded
+/// intersection point keeps the coordinate of its plane (any f64, an integer in particular, is
+/// its own nearest f64) and moves only within it, which changes neither the area nor the
+/// volume of the tiling.
+pub fn axis_aligned_area(mesh: &csgkit::Mesh) -> Result<num_rational::BigRational, String> {
+    use num_rational::BigRational as Q;
+    use num_traits::{Signed, Zero};
+    let q = |x: f64| Q::from_float(x).expect("finite coordinate");
+    let mut area2 = Q::zero();
+    for (f, corners) in mesh.fan_triangles() {
+        let [a, b, c] = corners.map(|v| mesh.positions()[v as usize].map(q));
+        let u: [Q; 3] = std::array::from_fn(|i| &b[i] - &a[i]);
+        let v: [Q; 3] = std::array::from_fn(|i| &c[i] - &a[i]);
+        let n = [
+            &u[1] * &v[2] - &u[2] * &v[1],
+            &u[2] * &v[0] - &u[0] * &v[2],
+            &u[0] * &v[1] - &u[1] * &v[0],
+        ];
+        if n.iter().filter(|x| !x.is_zero()).count() > 1 {
+            return Err(format!(
+                "face {} is not in an axis-aligned plane: corners {:?}",
+                f.index(),
+                corners.map(|v| mesh.positions()[v as usize])
+            ));
+        }
+        for x in &n {
+            area2 += x.abs();
+        }
+    }
+    Ok(area2 / Q::from_integer(2.into()))
+}

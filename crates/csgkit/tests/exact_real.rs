@@ -1,0 +1,337 @@
+//! The exact engine on real meshes of the shared data folder (`design/exact.md`, "Tests that
+//! define done"): a model minus a shifted copy of itself, a model ∪ a cylinder through it, the
+//! boolean pairs collected from manifold and trimesh (Generic_Twin, Cray, ballA/ballB), and a
+//! sponge cut by a rotated cube. Every result must be closed and consistently oriented, and the
+//! volume identities must hold to rounding ([`VOLUME_TOLERANCE`]).
+//!
+//! Operands that intersect themselves (the manifest's `selfint_pairs`) are outside the
+//! contract: the boolean must refuse them with [`BooleanError::SelfIntersecting`] naming the
+//! operand; where the issue asks for the operation anyway (Generic_Twin) it also runs with
+//! the check switched off.
+
+use std::path::Path;
+use std::time::Instant;
+
+use csgkit::Mesh;
+use csgkit::csg::primitives::{cuboid, cylinder};
+use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
+use csgkit::mesh::BoundingBox;
+
+use crate::util::{rotation, shared_data, transformed, translated};
+
+use Operation::{Difference, Intersection, Union};
+
+/// Relative tolerance of the volume identities.
+///
+/// Every decision of the engine is exact; the only inexact step is the output, where each
+/// implicit point (edge × plane, three planes) is rounded once to the nearest f64, i.e. moved
+/// by at most half an ulp, about 1.1e-16 · L for coordinates of magnitude L. Moving a vertex
+/// by δ changes the enclosed volume by at most δ times the area of its faces, so a result's
+/// volume is off by at most about 1e-16 · L · S (S its surface area), and the measure adds a
+/// compensated-sum error of a few ulps of Σ|tetrahedron|. For these models L · S / V stays
+/// below about 10³ (the Menger sponge, with its many holes, is the highest), so the identities
+/// hold to about 1e-13 of the operand volumes; 1e-9 leaves ample margin for rounding yet is
+/// far below any misclassified patch or lost shell.
+///
+/// The union identity is measured against |vol(A)| + |vol(B)|, the difference identity against
+/// |vol(A)| alone: A − B and A ∩ B both lie in A, so their rounding is relative to A even when
+/// B is huge (`Cray_right.obj` has corners at ±3.4e38 and a volume of 1.6e116).
+const VOLUME_TOLERANCE: f64 = 1e-9;
+
+/// Reads `meshes/<name>` of the shared data folder.
+fn load(data: &Path, name: &str) -> Mesh {
+    csgkit::read_mesh(data.join("meshes").join(name))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .mesh
+}
+
+/// The manifest's exact self-intersection count (`measured.selfint_pairs`) of `name`.
+fn manifest_self_intersections(data: &Path, name: &str) -> u64 {
+    let text =
+        std::fs::read_to_string(data.join("manifest.json")).expect("manifest.json is readable");
+    let json: serde_json::Value = serde_json::from_str(&text).expect("manifest.json is JSON");
+    let entry = (json["meshes"]
+        .as_array()
+        .expect("manifest lists meshes")
+        .iter())
+    .find(|m| m["measured"]["file"].as_str() == Some(name))
+    .unwrap_or_else(|| panic!("{name} is not in manifest.json"));
+    (entry["measured"]["selfint_pairs"].as_u64()).expect("measured.selfint_pairs")
+}
+
+fn bbox(mesh: &Mesh) -> BoundingBox {
+    mesh.report().measures.bbox.expect("the mesh has faces")
+}
+
+fn diagonal(b: &BoundingBox) -> f64 {
+    (0..3)
+        .map(|i| (b.max[i] - b.min[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Runs `op`, asserts the result is a closed, oriented solid, and returns its volume.
+fn volume_of(what: &str, op: Operation, operands: &[&Mesh], options: &BooleanOptions) -> f64 {
+    let start = Instant::now();
+    let result =
+        boolean(op, operands, options).unwrap_or_else(|e| panic!("{what}: {op:?} failed: {e}"));
+    let report = result.mesh.report();
+    eprintln!(
+        "{what}: {op:?} in {:.2} s: {} triangles, valid solid {}, volume {}",
+        start.elapsed().as_secs_f64(),
+        report.faces,
+        report.is_valid_solid(),
+        report.measures.volume
+    );
+    assert!(
+        report.is_valid_solid(),
+        "{what}: {op:?} is not a closed, oriented solid: {} unbalanced, {} boundary, {} misoriented edges",
+        report.topology.unbalanced_edges,
+        report.topology.boundary_edges,
+        report.topology.misoriented_edges
+    );
+    report.measures.volume
+}
+
+/// The volumes of A, B, A ∪ B, A ∩ B and A − B.
+#[derive(Debug)]
+struct Volumes {
+    a: f64,
+    b: f64,
+    union: f64,
+    intersection: f64,
+    difference: f64,
+}
+
+/// Computes ∪, ∩ and − of `a` and `b`, asserts each is a valid solid and the volume
+/// identities hold, and returns the volumes.
+///
+/// With `options.check_self_intersections` the first operation validates both operands; the
+/// other two run without the check, which would only repeat it on the same meshes.
+fn check_identities(what: &str, a: &Mesh, b: &Mesh, options: &BooleanOptions) -> Volumes {
+    let start = Instant::now();
+    let unchecked = BooleanOptions {
+        check_self_intersections: false,
+        ..*options
+    };
+    let volumes = Volumes {
+        a: a.report().measures.volume,
+        b: b.report().measures.volume,
+        union: volume_of(what, Union, &[a, b], options),
+        intersection: volume_of(what, Intersection, &[a, b], &unchecked),
+        difference: volume_of(what, Difference, &[a, b], &unchecked),
+    };
+    let Volumes {
+        a: va,
+        b: vb,
+        union,
+        intersection,
+        difference,
+    } = volumes;
+    let both = VOLUME_TOLERANCE * (va.abs() + vb.abs());
+    let first = VOLUME_TOLERANCE * va.abs();
+    assert!(
+        (union + intersection - (va + vb)).abs() <= both,
+        "{what}: vol(A∪B) + vol(A∩B) = {} but vol(A) + vol(B) = {} ({volumes:?})",
+        union + intersection,
+        va + vb
+    );
+    assert!(
+        (difference - (va - intersection)).abs() <= first,
+        "{what}: vol(A−B) = {difference} but vol(A) − vol(A∩B) = {} ({volumes:?})",
+        va - intersection
+    );
+    assert!(
+        intersection >= -first && intersection <= va.min(vb) + both,
+        "{what}: vol(A∩B) out of range ({volumes:?})"
+    );
+    assert!(
+        union >= va.max(vb) - both,
+        "{what}: vol(A∪B) below an operand's ({volumes:?})"
+    );
+    eprintln!(
+        "{what}: identities hold ({:.2} s): {volumes:?}",
+        start.elapsed().as_secs_f64()
+    );
+    volumes
+}
+
+/// Asserts the manifest lists no self-intersection in any of `names`, so the operands are
+/// inside the contract.
+fn assert_clean(data: &Path, names: &[&str]) {
+    for name in names {
+        assert_eq!(
+            manifest_self_intersections(data, name),
+            0,
+            "{name} self-intersects per the manifest; this test assumes it does not"
+        );
+    }
+}
+
+#[test]
+fn bunny_minus_shifted_copy() {
+    let Some(data) = shared_data() else { return };
+    assert_clean(&data, &["bunny_watertight.obj"]);
+    let a = load(&data, "bunny_watertight.obj");
+    // 3% of the diagonal along (2, 3, 6) / 7, a unit vector off every axis.
+    let step = 0.03 * diagonal(&bbox(&a)) / 7.0;
+    let b = translated(&a, [2.0 * step, 3.0 * step, 6.0 * step]);
+    let v = check_identities("bunny − shifted bunny", &a, &b, &BooleanOptions::default());
+    assert!(
+        v.intersection > 0.5 * v.a,
+        "the copies overlap mostly: {v:?}"
+    );
+    assert!(v.difference > 0.0, "the shift leaves a crescent: {v:?}");
+}
+
+#[test]
+fn armadillo_union_cylinder() {
+    let Some(data) = shared_data() else { return };
+    assert_clean(&data, &["armadillo.obj"]);
+    let a = load(&data, "armadillo.obj");
+    let b = bbox(&a);
+    let centre = b.center();
+    let depth = b.max[2] - b.min[2];
+    // Along z through the middle of the body, sticking out 10% of the depth on each side.
+    let radius = 0.08 * (b.max[0] - b.min[0]);
+    let base = [centre[0], centre[1], b.min[2] - 0.1 * depth];
+    let c = cylinder(base, radius, 1.2 * depth, 96);
+    let v = check_identities("armadillo ∪ cylinder", &a, &c, &BooleanOptions::default());
+    assert!(
+        v.intersection > 0.0 && v.intersection < v.b,
+        "the cylinder goes through the model and out of it: {v:?}"
+    );
+}
+
+const TWIN_LEFT: &str = "Generic_Twin_7081.1.t0_left.obj";
+const TWIN_RIGHT: &str = "Generic_Twin_7081.1.t0_right.obj";
+
+/// Both Generic_Twin operands intersect themselves (manifest: 3 and 64 pairs), so the checked
+/// boolean refuses left ∪ right, naming operand 0 (the check stops at the first bad operand;
+/// `exact_props::self_intersecting_operand_is_named` covers the second position).
+#[test]
+fn generic_twin_union_refuses_self_intersecting_operands() {
+    let Some(data) = shared_data() else { return };
+    let (left, right) = (load(&data, TWIN_LEFT), load(&data, TWIN_RIGHT));
+    assert!(manifest_self_intersections(&data, TWIN_LEFT) > 0);
+    assert!(manifest_self_intersections(&data, TWIN_RIGHT) > 0);
+    let start = Instant::now();
+    match boolean(Union, &[&left, &right], &BooleanOptions::default()) {
+        Err(BooleanError::SelfIntersecting { operand, count, .. }) => {
+            assert_eq!(operand, 0, "{TWIN_LEFT} is operand 0 and self-intersects");
+            assert!(count > 0);
+            eprintln!(
+                "Generic_Twin: SelfIntersecting {{ operand: 0, count: {count} }} in {:.2} s",
+                start.elapsed().as_secs_f64()
+            );
+        }
+        other => panic!(
+            "expected SelfIntersecting naming operand 0, got {:?}",
+            other.map(|r| r.stats)
+        ),
+    }
+}
+
+/// The issue asks for Generic_Twin left ∪ right (manifold's GenericTwinBooleanTest7081) anyway:
+/// with the self-intersection check off the union must still be a closed, oriented solid.
+/// The volume identities are not asserted: an operand that overlaps itself counts the overlap
+/// twice in its signed volume, so they need not hold.
+#[test]
+fn generic_twin_union_unchecked() {
+    let Some(data) = shared_data() else { return };
+    let (left, right) = (load(&data, TWIN_LEFT), load(&data, TWIN_RIGHT));
+    let options = BooleanOptions {
+        check_self_intersections: false,
+        ..Default::default()
+    };
+    let union = volume_of(
+        "Generic_Twin left ∪ right",
+        Union,
+        &[&left, &right],
+        &options,
+    );
+    let (va, vb) = (
+        left.report().measures.volume,
+        right.report().measures.volume,
+    );
+    assert!(
+        union > 0.0 && union <= (va + vb) * (1.0 + VOLUME_TOLERANCE),
+        "union volume {union}, operands {va} and {vb}"
+    );
+}
+
+/// manifold's CraycloudBool: Cray_left minus a half-space cutter whose corners are at
+/// ±3.4e38 (the ingest rescales by a power of two).
+#[test]
+fn cray_left_minus_right() {
+    let Some(data) = shared_data() else { return };
+    assert_clean(&data, &["Cray_left.obj", "Cray_right.obj"]);
+    let (a, b) = (load(&data, "Cray_left.obj"), load(&data, "Cray_right.obj"));
+    let v = check_identities("Cray_left − Cray_right", &a, &b, &BooleanOptions::default());
+    assert!(
+        v.difference > 0.0 && v.intersection > 0.0,
+        "the cutter's top face z = −100 goes through Cray_left: {v:?}"
+    );
+}
+
+/// Cray reduced: the unit cube minus a slab reaching `±m` in x and y, whose top face z = 0.5
+/// cuts the cube in half. Intersection points on the slab's long edges must round to the
+/// nearest f64 however long the edge; the volume is 0.5 and the cube's box is kept.
+#[test]
+fn unit_cube_minus_huge_slab() {
+    let a = cuboid([0.0; 3], [1.0; 3]);
+    let mut failures = Vec::new();
+    for m in [1e4, 1e10, 1e16, 3.4e38] {
+        let b = cuboid([-m, -m, -m], [m, m, 0.5]);
+        let result = boolean(Difference, &[&a, &b], &BooleanOptions::default())
+            .unwrap_or_else(|e| panic!("m = {m:e}: {e}"));
+        let report = result.mesh.report();
+        let bbox = report.measures.bbox;
+        let expected = Some(BoundingBox {
+            min: [0.0, 0.0, 0.5],
+            max: [1.0; 3],
+        });
+        if !report.is_valid_solid()
+            || (report.measures.volume - 0.5).abs() > VOLUME_TOLERANCE
+            || bbox != expected
+        {
+            failures.push(format!(
+                "m = {m:e}: valid {}, volume {}, box {bbox:?}",
+                report.is_valid_solid(),
+                report.measures.volume
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("; "));
+}
+
+#[test]
+fn ball_a_and_ball_b() {
+    let Some(data) = shared_data() else { return };
+    assert_clean(&data, &["ballA.off", "ballB.off"]);
+    let (a, b) = (load(&data, "ballA.off"), load(&data, "ballB.off"));
+    let v = check_identities("ballA, ballB", &a, &b, &BooleanOptions::default());
+    assert!(v.intersection > 0.0 && v.difference > 0.0, "{v:?}");
+}
+
+#[test]
+fn menger_sponge_intersect_rotated_cube() {
+    let Some(data) = shared_data() else { return };
+    assert_clean(&data, &["mengerSponge3.obj"]);
+    let a = load(&data, "mengerSponge3.obj");
+    let b = bbox(&a);
+    // A cube of 70% of the sponge's side, turned 0.6 rad about (1, 2, 3), centred on it.
+    let half = 0.35 * (b.max[0] - b.min[0]);
+    let cube = cuboid([-half; 3], [half; 3]);
+    let cube = transformed(&cube, &rotation([1.0, 2.0, 3.0], 0.6), b.center());
+    let v = check_identities(
+        "mengerSponge3 ∩ rotated cube",
+        &a,
+        &cube,
+        &BooleanOptions::default(),
+    );
+    assert!(
+        v.intersection > 0.0 && v.intersection < v.b,
+        "the cube cuts through holes of the sponge: {v:?}"
+    );
+}
