@@ -100,6 +100,9 @@ pub struct BooleanStats {
     pub patches: usize,
     /// Triangles of the result.
     pub output_triangles: usize,
+    /// Face pairs of the result that intersect because intersection points were rounded to
+    /// f64 (0 almost always; see the assemble stage).
+    pub rounding_self_intersections: usize,
 }
 
 impl BooleanStats {
@@ -261,7 +264,9 @@ pub fn boolean(
     clock.finish(Stage::Classify, &mut stats)?;
 
     let kept = select::select(op, &input, &arrangement, &labels);
-    let mesh = assemble::assemble(&input, &arrangement, &kept);
+    let assembled = assemble::assemble(&input, &arrangement, &kept);
+    stats.rounding_self_intersections = assembled.rounding_folds;
+    let mesh = assembled.mesh;
     if options.split_non_manifold {
         return Err(BooleanError::Unsupported(
             "--manifold is not wired yet".into(),
