@@ -896,5 +896,33 @@ mod tests {
             prop_assert_eq!(topology.components, corners.len());
             prop_assert_eq!(output.vertex_count(), 8 * corners.len());
         }
+
+        /// The same with distinct cubes and their faces in random order, so that index order
+        /// says nothing: only the order around each edge keeps the cubes apart.
+        #[test]
+        fn shuffled_soups_of_grid_cubes_come_apart_into_cubes(
+            mask in 1u32..1 << 27,
+            seed in any::<u64>(),
+        ) {
+            let corners = cells(mask);
+            let input = shuffled(&cubes(&corners), seed);
+            let (output, topology) = split_checked(&input);
+            prop_assert_eq!(topology.components, corners.len());
+            prop_assert_eq!(output.vertex_count(), 8 * corners.len());
+        }
+    }
+
+    /// `mesh`'s triangles in an order drawn from `seed` (Fisher–Yates on xorshift64*).
+    fn shuffled(mesh: &Mesh, seed: u64) -> Mesh {
+        let mut triangles: Vec<[u32; 3]> = mesh.fan_triangles().map(|(_, t)| t).collect();
+        let mut state = seed | 1;
+        for i in (1..triangles.len()).rev() {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            let j = (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 33) as usize % (i + 1);
+            triangles.swap(i, j);
+        }
+        Mesh::from_triangles(mesh.positions().to_vec(), &triangles).unwrap()
     }
 }
