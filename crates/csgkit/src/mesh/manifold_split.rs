@@ -63,8 +63,9 @@
 //! O(V + C) for V vertices and C corners, plus O(k log k) predicates at each non-manifold edge
 //! with k uses, plus a walk over the fans at both ends of an edge for each swap in step 5
 //! (rare: it needs the configuration above). A mesh that is already a 2-manifold makes one
-//! pass over its sides and fans and is returned as a copy. Memory: 16 bytes per side and
-//! 12 per corner, 8 more per corner for polygon meshes.
+//! pass over its sides and fans and is returned as a copy. Memory: 16 bytes per side record
+//! and about 20 per corner (welded vertex, mate, label, output vertex, fan numbers), 8 more
+//! per corner for polygon meshes.
 
 use std::borrow::Cow;
 
@@ -77,9 +78,21 @@ const NONE: u32 = u32::MAX;
 /// Returns `mesh` with its non-manifold edges and vertices split apart by duplicating vertices:
 /// every edge has two uses, one in each direction, and every vertex a single fan.
 ///
-/// The input should be closed and consistently oriented (non-manifold edges and vertices
-/// allowed); see the [module documentation](self) for the contract, and for the one
-/// configuration where touching sheets are joined the other way rather than separated.
+/// The input should be closed and consistently oriented; non-manifold edges and vertices are
+/// what it is for (two cubes sharing an edge or a vertex). Equal positions are welded first,
+/// then a welded vertex whose corners form several fans gets one copy per extra fan, with the
+/// same position and vertex colour. The output's vertices are the welded ones in
+/// first-occurrence order (as [`weld`](super::weld())), then the copies; faces, their order
+/// and every face and corner attribute are the input's. So welding the output gives the
+/// welded input back, and a welded 2-manifold comes back unchanged.
+///
+/// Where surfaces touch, they come apart: around an edge with more than two uses the two faces
+/// bounding each wedge of solid are joined, decided by exact predicates. The one exception is
+/// two sheets meeting along an edge whose ends each have a single fan (two pillars touching
+/// along an edge between two slabs): no duplication of vertices can separate them, so they are
+/// joined the other way across that edge. Faces with fewer than three distinct welded
+/// vertices keep their welded vertices. An open or misoriented mesh gives a valid mesh too,
+/// without panic. The source file `mesh/manifold_split.rs` gives the algorithm.
 ///
 /// # Example
 /// ```
@@ -529,7 +542,8 @@ fn order_around_edge(a: [f64; 3], b: [f64; 3], spokes: &mut [Spoke]) {
         };
     }
     // Tied faces: closers before openers; closers by increasing corner and openers by
-    // decreasing corner, so that coincident copies of one surface nest in index order.
+    // decreasing corner, so that the wedges of coincident copies of one surface nest with
+    // the first copy innermost: each copy's faces pair with the same copy's.
     let tie = |s: &Spoke| {
         let corner = i64::from(s.corner);
         (!s.forward, if s.forward { corner } else { -corner })
