@@ -38,7 +38,8 @@
 //! 3. **Pair sides** (`mate`). An edge with one use in each direction pairs them. An edge with
 //!    more uses orders its faces around the edge exactly (`order_around_edge`) and matches
 //!    them across the solid wedges (`match_wedges`); when a face there has no direction around
-//!    the edge (zero area along it, or a polygon), the sides pair in index order instead.
+//!    the edge (zero area along it, or a polygon), the sides pair in index order instead, and
+//!    step 5 still makes the result a 2-manifold.
 //! 4. **Fans.** A paired side leads from one corner at a vertex to the next corner of the fan
 //!    (`turn`); fans are the orbits of that step, labelled by walking them (`label_fan`).
 //! 5. **Separate sheets.** At each non-manifold edge, two sheets with the same fans at both
@@ -87,7 +88,9 @@ const NONE: u32 = u32::MAX;
 /// welded input back, and a welded 2-manifold comes back unchanged.
 ///
 /// Where surfaces touch, they come apart: around an edge with more than two uses the two faces
-/// bounding each wedge of solid are joined, decided by exact predicates. The one exception is
+/// bounding each wedge of solid are joined, ordered by exact predicates (polygons there, which
+/// may be non-convex, pair in index order: triangulate first to have them ordered too),
+/// so two cubes sharing an edge come out as two separate cubes. The one exception is
 /// two sheets meeting along an edge whose ends each have a single fan (two pillars touching
 /// along an edge between two slabs): no duplication of vertices can separate them, so they are
 /// joined the other way across that edge. Faces with fewer than three distinct welded
