@@ -70,7 +70,7 @@
 
 use std::borrow::Cow;
 
-use super::{FaceId, Mesh, weld_positions};
+use super::{FaceId, Mesh, MeshParts, weld_positions};
 use crate::kernel::{Sign, orient2d, orient3d};
 
 /// Marks an unpaired side, an unlabelled corner and an unnumbered fan.
@@ -149,19 +149,32 @@ pub fn split_non_manifold(mesh: &Mesh) -> Mesh {
     if copies.is_empty() && !welded {
         return mesh.clone();
     }
-    let mut parts = mesh.parts().clone();
-    let copied: Vec<[f64; 3]> = copies.iter().map(|&v| positions[v as usize]).collect();
-    parts.positions = positions.into_owned();
-    parts.positions.extend(copied);
-    parts.corners = numbered;
-    if let Some(colors) = &mut parts.vertex_colors {
-        // Each welded vertex, and each copy, takes the colour of the first occurrence.
-        let welded_colors = (0..welding.welded_count() as u32)
-            .chain(copies)
-            .map(|v| colors[welding.representatives[v as usize] as usize])
-            .collect();
-        *colors = welded_colors;
+    let mut positions = positions.into_owned();
+    for &v in &copies {
+        positions.push(positions[v as usize]);
     }
+    // Each welded vertex, and each copy, takes the colour of its first occurrence.
+    let first_occurrences = (0..welding.welded_count() as u32).chain(copies);
+    let input = mesh.parts();
+    let vertex_colors = (input.vertex_colors.as_ref()).map(|colors| {
+        (first_occurrences.map(|v| colors[welding.representatives[v as usize] as usize])).collect()
+    });
+    // Every buffer named, so that a new one cannot be forgotten here.
+    let parts = MeshParts {
+        positions,
+        corners: numbered,
+        face_starts: input.face_starts.clone(),
+        face_materials: input.face_materials.clone(),
+        materials: input.materials.clone(),
+        face_groups: input.face_groups.clone(),
+        groups: input.groups.clone(),
+        face_colors: input.face_colors.clone(),
+        face_provenance: input.face_provenance.clone(),
+        corner_uvs: input.corner_uvs.clone(),
+        corner_normals: input.corner_normals.clone(),
+        vertex_colors,
+        material_libraries: input.material_libraries.clone(),
+    };
     let split = Mesh { parts };
     debug_assert!(
         split.check_invariants().is_ok(),
