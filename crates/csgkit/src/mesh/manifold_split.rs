@@ -607,7 +607,9 @@ fn normal_signs(a: [f64; 3], b: [f64; 3], p: [f64; 3]) -> [Sign; 3] {
     })
 }
 
-/// Whether a face has at least three distinct vertex indices.
+/// Whether a face has at least three distinct vertex indices: the rule by which
+/// [`Topology`](super::Topology) leaves faces out, so that the output's topology counts the
+/// same faces.
 fn has_three_distinct(corners: &[u32]) -> bool {
     if let [a, b, c] = corners {
         return a != b && b != c && a != c;
