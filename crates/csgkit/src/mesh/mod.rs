@@ -27,9 +27,15 @@
 //! duplicate faces ([`count_degenerate`]), and signed volume, area and bounding box
 //! ([`measure`]). The submodules' docs define each number and say where it differs from the
 //! reference measurements in `shared/data/manifest.json`.
+//!
+//! # Making a mesh 2-manifold
+//! A closed mesh may touch itself along edges and at vertices (two cubes sharing an edge).
+//! [`split_non_manifold`] duplicates vertices until every edge has two uses and every vertex
+//! one fan, keeping faces and their attributes, for consumers that need a 2-manifold.
 
 mod degenerate;
 mod ids;
+mod manifold_split;
 mod measures;
 mod report;
 #[cfg(test)]
@@ -41,6 +47,7 @@ mod weld;
 
 pub use degenerate::{DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape};
 pub use ids::{FaceId, OperandId, VertexId};
+pub use manifold_split::split_non_manifold;
 pub use measures::{BoundingBox, Measures, bounding_box, measure};
 pub use report::{MeshReport, analyze};
 pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
