@@ -43,9 +43,19 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, kept: &Kept) -> Assembl
 /// found is a fold that rounding made (design/exact.md: reported, never silent).
 fn folds_after_rounding(mesh: &Mesh, rounded: &[bool]) -> usize {
     let corners = mesh.corners();
-    let face_box = |f: usize| Aabb::from_points(corners[3 * f..3 * f + 3].iter().map(|&v| &mesh.positions()[v as usize]));
+    let face_box = |f: usize| {
+        Aabb::from_points(
+            corners[3 * f..3 * f + 3]
+                .iter()
+                .map(|&v| &mesh.positions()[v as usize]),
+        )
+    };
     let moved: Vec<Aabb> = (0..mesh.face_count())
-        .filter(|&f| corners[3 * f..3 * f + 3].iter().any(|&v| rounded[v as usize]))
+        .filter(|&f| {
+            corners[3 * f..3 * f + 3]
+                .iter()
+                .any(|&v| rounded[v as usize])
+        })
         .map(face_box)
         .collect();
     if moved.is_empty() {
@@ -59,7 +69,9 @@ fn folds_after_rounding(mesh: &Mesh, rounded: &[bool]) -> usize {
         .collect();
     let around = Mesh::from_triangles(mesh.positions().to_vec(), &near)
         .expect("the faces index the mesh's vertices");
-    super::self_intersect::self_intersections(&around).pairs.len()
+    super::self_intersect::self_intersections(&around)
+        .pairs
+        .len()
 }
 
 /// The mesh of the kept sub-triangles, and which of its vertices are rounded points.

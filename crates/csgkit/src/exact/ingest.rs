@@ -159,7 +159,9 @@ fn operand_triangles(mesh: &Mesh, remap: &[u32], positions: &[Point3]) -> Vec<(F
             .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]))
             .collect()
     } else {
-        mesh.fan_triangles().filter_map(|(f, c)| make(f, c)).collect()
+        mesh.fan_triangles()
+            .filter_map(|(f, c)| make(f, c))
+            .collect()
     }
 }
 
@@ -222,7 +224,11 @@ fn link_edges(
         let (a, b) = ends(side);
         let slot = &mut next[a.min(b) as usize];
         let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
-        sides[*slot as usize] = (key, input.operand[side / 3], (side as u32) << 1 | u32::from(a < b));
+        sides[*slot as usize] = (
+            key,
+            input.operand[side / 3],
+            (side as u32) << 1 | u32::from(a < b),
+        );
         *slot += 1;
     }
     let mut rest = sides.as_mut_slice();

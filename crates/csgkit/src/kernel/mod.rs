@@ -104,11 +104,11 @@ pub(crate) mod oracle;
 mod tests;
 
 pub use implicit::{Lpi, Point, Point3, Tpi};
-pub(crate) use rounding::round_point;
 pub use orient::{orient2d, orient3d};
 pub use predicates::{
     compare_along, compare_lex, orient2d_projected, orient3d_plane, orient3d_points, same_point,
 };
+pub(crate) use rounding::round_point;
 
 /// The sign of an exact quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
