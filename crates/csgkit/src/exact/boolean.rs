@@ -266,11 +266,9 @@ pub fn boolean(
     let kept = select::select(op, &input, &arrangement, &labels);
     let assembled = assemble::assemble(&input, &arrangement, &kept);
     stats.rounding_self_intersections = assembled.rounding_folds;
-    let mesh = assembled.mesh;
+    let mut mesh = assembled.mesh;
     if options.split_non_manifold {
-        return Err(BooleanError::Unsupported(
-            "--manifold is not wired yet".into(),
-        ));
+        mesh = crate::mesh::split_non_manifold(&mesh);
     }
     stats.output_triangles = mesh.face_count();
     clock.finish(Stage::Assemble, &mut stats)?;
