@@ -69,6 +69,12 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<()> {
     let result = compute(op, args, &meshes)
         .with_context(|| format!("cannot compute the {}", op_name(op)))?;
     warn_if_manifold_lost(args.manifold, &args.output);
+    let folds = result.stats.rounding_self_intersections;
+    if folds > 0 {
+        eprintln!(
+            "csgkit: warning: rounding the intersection points to f64 made {folds} face pairs of the result cross; `csgkit check` lists them"
+        );
+    }
     let clock = Instant::now();
     let options = WriteOptions {
         format: Some(format),
@@ -182,6 +188,7 @@ fn stats_json(
         "split_triangles": s.split_triangles,
         "patches": s.patches,
         "output_triangles": s.output_triangles,
+        "rounding_self_intersections": s.rounding_self_intersections,
         "output_vertices": result.mesh.vertex_count(),
         "valid_solid": report.valid_solid,
         "volume": report.measures.volume,
