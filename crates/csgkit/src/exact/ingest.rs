@@ -106,16 +106,13 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     let mut vertex_offset = 0usize;
     for (k, mesh) in operands.iter().enumerate() {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
-        let kept: Vec<(FaceId, Triangle)> = operand_triangles(mesh, remap, &positions);
-        operand.extend(std::iter::repeat_n(k as u32, kept.len()));
-        for (f, t) in kept {
-            let id = triangles.len() as u32;
-            triangles.push(t.with_id(id));
-            face.push(f);
-        }
+        let start = triangles.len();
+        add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles);
+        operand.extend(std::iter::repeat_n(k as u32, triangles.len() - start));
         vertex_offset += mesh.vertex_count();
         operand_starts.push(triangles.len() as u32);
     }
+    (triangles.par_iter_mut().enumerate()).for_each(|(id, t)| *t = t.with_id(id as u32));
     let operand_boxes = (0..operands.len())
         .map(|k| {
             let range = operand_starts[k] as usize..operand_starts[k + 1] as usize;
@@ -147,21 +144,31 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     Ok(input)
 }
 
-/// The non-degenerate fan triangles of one operand over the welded vertices (`remap` maps
-/// its vertices to welded ids), with their faces; triangle meshes in parallel.
-fn operand_triangles(mesh: &Mesh, remap: &[u32], positions: &[Point3]) -> Vec<(FaceId, Triangle)> {
+/// Appends the non-degenerate fan triangles of one operand over the welded vertices (`remap`
+/// maps its vertices to welded ids) and their faces; triangle meshes in parallel, straight
+/// into the output vectors.
+fn add_operand_triangles(
+    mesh: &Mesh,
+    remap: &[u32],
+    positions: &[Point3],
+    faces: &mut Vec<FaceId>,
+    triangles: &mut Vec<Triangle>,
+) {
     let make = |f: FaceId, corners: [u32; 3]| {
         let ids = corners.map(|v| remap[v as usize]);
         Triangle::new(0, ids, ids.map(|v| positions[v as usize])).map(|t| (f, t))
     };
     if mesh.is_triangle_mesh() {
-        (mesh.corners().par_chunks_exact(3).enumerate())
-            .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]))
-            .collect()
+        let found = (mesh.corners().par_chunks_exact(3).enumerate())
+            .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]));
+        let mut both = (std::mem::take(faces), std::mem::take(triangles));
+        both.par_extend(found);
+        (*faces, *triangles) = both;
     } else {
-        mesh.fan_triangles()
-            .filter_map(|(f, c)| make(f, c))
-            .collect()
+        for (f, t) in mesh.fan_triangles().filter_map(|(f, c)| make(f, c)) {
+            faces.push(f);
+            triangles.push(t);
+        }
     }
 }
 
