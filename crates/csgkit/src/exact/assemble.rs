@@ -1,6 +1,6 @@
 //! The **assemble** stage (`design/exact.md`, stage 8): the output mesh.
 //!
-//! Vertices the kept sub-triangles use are numbered in order of first use; an intersection
+//! Vertices the kept sub-triangles use keep their relative order (input vertices first); an intersection
 //! point is rounded to the nearest f64 here, once (exact big-integer division), and every
 //! coordinate is scaled back by the inverse of the ingest power of two (exact). Each face
 //! records its provenance: the operand and the original face it lies on.
@@ -14,7 +14,6 @@
 
 use rayon::prelude::*;
 
-use crate::index::{Aabb, Bvh};
 use crate::kernel::round_point;
 use crate::mesh::{Mesh, MeshParts, OperandId, Provenance};
 
@@ -39,69 +38,84 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, kept: &Kept) -> Assembl
 }
 
 /// Counts the face pairs of `mesh` that intersect other than along what they share, among
-/// the faces near a rounded vertex (`rounded[v]`): the exact arrangement has none, so any
-/// found is a fold that rounding made (design/exact.md: reported, never silent).
+/// the faces around rounded vertices (`rounded[v]`): the faces with a vertex on a face that
+/// has a rounded vertex. The exact arrangement has no such pair, so any found is a fold that
+/// rounding made (design/exact.md: reported, never silent). Faces farther away would have
+/// to lie within half an ulp of a rounded point without sharing a vertex with its faces.
 fn folds_after_rounding(mesh: &Mesh, rounded: &[bool]) -> usize {
     let corners = mesh.corners();
-    let face_box = |f: usize| {
-        Aabb::from_points(
-            corners[3 * f..3 * f + 3]
-                .iter()
-                .map(|&v| &mesh.positions()[v as usize]),
-        )
-    };
-    let moved: Vec<Aabb> = (0..mesh.face_count())
-        .filter(|&f| {
-            corners[3 * f..3 * f + 3]
-                .iter()
-                .any(|&v| rounded[v as usize])
-        })
-        .map(face_box)
+    let face = |f: usize| &corners[3 * f..3 * f + 3];
+    let mut ring = vec![false; mesh.vertex_count()];
+    for f in 0..mesh.face_count() {
+        if face(f).iter().any(|&v| rounded[v as usize]) {
+            face(f).iter().for_each(|&v| ring[v as usize] = true);
+        }
+    }
+    let near: Vec<usize> = (0..mesh.face_count())
+        .into_par_iter()
+        .filter(|&f| face(f).iter().any(|&v| ring[v as usize]))
         .collect();
-    if moved.is_empty() {
+    if near.is_empty() {
         return 0;
     }
-    let tree = Bvh::build(&moved);
-    let near: Vec<[u32; 3]> = (0..mesh.face_count())
-        .into_par_iter()
-        .filter(|&f| tree.any_overlapping(&face_box(f), |_| true))
-        .map(|f| [corners[3 * f], corners[3 * f + 1], corners[3 * f + 2]])
+    // A small mesh of those faces, so the check welds and indexes only them.
+    let mut local = vec![u32::MAX; mesh.vertex_count()];
+    let mut positions = Vec::new();
+    let triangles: Vec<[u32; 3]> = (near.iter())
+        .map(|&f| {
+            [0, 1, 2].map(|i| {
+                let v = face(f)[i] as usize;
+                if local[v] == u32::MAX {
+                    local[v] = positions.len() as u32;
+                    positions.push(mesh.positions()[v]);
+                }
+                local[v]
+            })
+        })
         .collect();
-    let around = Mesh::from_triangles(mesh.positions().to_vec(), &near)
-        .expect("the faces index the mesh's vertices");
-    super::self_intersect::self_intersections(&around)
-        .pairs
-        .len()
+    let around =
+        Mesh::from_triangles(positions, &triangles).expect("the faces index their vertices");
+    super::self_intersect::self_intersections(&around).pairs.len()
 }
 
 /// The mesh of the kept sub-triangles, and which of its vertices are rounded points.
 fn build_mesh(input: &Input, arr: &Arrangement, kept: &Kept) -> (Mesh, Vec<bool>) {
+    // Used vertices keep their relative order (input vertices, then intersection points), so
+    // the numbering is deterministic and every step but the marking runs in parallel.
     let mut new_id = vec![u32::MAX; arr.vertex_count(input)];
-    let mut positions = Vec::new();
-    let mut corners = Vec::with_capacity(3 * kept.len());
-    let mut provenance = Vec::with_capacity(kept.len());
-    let mut rounded = Vec::new();
+    for &(s, _) in kept {
+        for v in arr.triangles[s as usize] {
+            new_id[v as usize] = 0;
+        }
+    }
+    let mut used = Vec::new();
+    for (v, id) in new_id.iter_mut().enumerate() {
+        if *id == 0 {
+            *id = used.len() as u32;
+            used.push(v as u32);
+        }
+    }
     let explicit_count = input.positions.len() as u32;
     let unscale = 1.0 / input.scale;
-    for &(s, reverse) in kept {
-        let mut tri = arr.triangles[s as usize];
-        if reverse {
-            tri.swap(1, 2);
-        }
-        for v in tri {
-            if new_id[v as usize] == u32::MAX {
-                new_id[v as usize] = positions.len() as u32;
-                positions.push(round_point(&arr.point(input, v)).map(|x| x * unscale));
-                rounded.push(v >= explicit_count);
+    let positions: Vec<[f64; 3]> = (used.par_iter())
+        .map(|&v| round_point(&arr.point(input, v)).map(|x| x * unscale))
+        .collect();
+    let rounded: Vec<bool> = used.iter().map(|&v| v >= explicit_count).collect();
+    let corners: Vec<u32> = (kept.par_iter())
+        .flat_map_iter(|&(s, reverse)| {
+            let [a, b, c] = arr.triangles[s as usize].map(|v| new_id[v as usize]);
+            if reverse { [a, c, b] } else { [a, b, c] }
+        })
+        .collect();
+    let provenance: Vec<Provenance> = (kept.par_iter())
+        .map(|&(s, _)| {
+            let t = arr.source[s as usize] as usize;
+            Provenance {
+                operand: OperandId::new(input.operand[t] as usize),
+                face: input.face[t],
             }
-            corners.push(new_id[v as usize]);
-        }
-        let t = arr.source[s as usize] as usize;
-        provenance.push(Provenance {
-            operand: OperandId::new(input.operand[t] as usize),
-            face: input.face[t],
-        });
-    }
+        })
+        .collect();
     let mesh = Mesh::from_parts(MeshParts {
         positions,
         corners,
