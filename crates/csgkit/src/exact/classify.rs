@@ -493,10 +493,33 @@ fn propagate(
     labels: &mut [Option<Vec<(u32, Label)>>],
     mut pending: Vec<(u32, LocalLabels)>,
 ) -> Result<(), BooleanError> {
+    if pending.is_empty() {
+        return Ok(());
+    }
+    // `(patch, group)` for the edge groups of each pending patch, in group order: a patch
+    // looks only at its own edges, not at every group.
+    let mut is_pending = vec![false; labels.len()];
+    for (p, _) in &pending {
+        is_pending[*p as usize] = true;
+    }
+    let mut groups_of: Vec<(u32, u32)> = (edges.groups().enumerate())
+        .flat_map(|(g, group)| {
+            group
+                .iter()
+                .map(move |r| (patch_of[r.face as usize], g as u32))
+        })
+        .filter(|&(p, _)| is_pending[p as usize])
+        .collect();
+    groups_of.sort_unstable();
+    groups_of.dedup();
     while !pending.is_empty() {
         let before = pending.len();
         pending.retain(|(p, local)| {
-            let neighbour = edges.groups().find_map(|group| {
+            let start = groups_of.partition_point(|x| x.0 < *p);
+            let mut groups = (groups_of[start..].iter())
+                .take_while(|x| x.0 == *p)
+                .map(|&(_, g)| edges.group(g));
+            let neighbour = groups.find_map(|group| {
                 let mine = group.iter().find(|r| patch_of[r.face as usize] == *p)?;
                 group
                     .iter()

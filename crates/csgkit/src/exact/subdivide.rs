@@ -48,7 +48,8 @@ enum Mark {
 /// segments on `t` cross.
 #[derive(Clone, Copy, Debug)]
 enum Support {
-    /// The plane of another (not coplanar) triangle: the segment lies on its line with `t`.
+    /// The plane of another (not coplanar) triangle: the segment lies on its line with `t`,
+    /// through that triangle's interior (one along its edge has [`Support::Edge`]).
     Plane(u32),
     /// An input edge lying in the plane of `t`, as its sorted vertex ids.
     Edge([u32; 2]),
@@ -93,8 +94,15 @@ fn marks_of(a: &Triangle, b: &Triangle, intersection: Intersection) -> Vec<(u32,
         Intersection::TouchingSegment([c, d]) | Intersection::Crossing([c, d]) => {
             let mut marks = both(point(&c)).to_vec();
             marks.extend(both(point(&d)));
-            marks.push((s, Mark::Segment(c.key, d.key, Support::Plane(t))));
-            marks.push((t, Mark::Segment(c.key, d.key, Support::Plane(s))));
+            // A segment along an edge of the other triangle is carried by that edge, so a
+            // point where another segment crosses it gets the key the intersect stage gives
+            // that point (edge × edge, edge × triangle), not a key naming the plane.
+            let on_b =
+                common_edge(c.on_b, d.on_b).map_or(Support::Plane(t), |i| Support::Edge(b.edge(i)));
+            let on_a =
+                common_edge(c.on_a, d.on_a).map_or(Support::Plane(s), |i| Support::Edge(a.edge(i)));
+            marks.push((s, Mark::Segment(c.key, d.key, on_b)));
+            marks.push((t, Mark::Segment(c.key, d.key, on_a)));
             marks
         }
         Intersection::CoplanarOverlap(corners) => {
@@ -174,7 +182,7 @@ pub(crate) fn split(input: &Input, contacts: Contacts) -> Result<Arrangement, Bo
         .map(|group| split_one(input, group, &ids))
         .collect();
     let mut splits: Vec<TriangleSplit> = splits.into_iter().collect::<Result<_, _>>()?;
-    let points = number_crossings(input, points, &mut splits);
+    let points = number_crossings(input, points, &ids, &mut splits);
 
     let mut merges = UnionFind::new(input.positions.len() + points.len());
     let mut any_merge = false;
@@ -270,27 +278,35 @@ struct TriangleSplit {
     crossings: Vec<(PointKey, Point)>,
 }
 
-/// Gives the crossing points found by the splits global ids after the contact points, in
-/// key order, and rewrites the splits' placeholder ids. Returns all intersection points.
+/// Gives the crossing points found by the splits global ids, and rewrites the splits'
+/// placeholder ids: a crossing whose key is already a contact point's (two edges that cross
+/// inside a triangle of a third operand also meet in their own triangles) takes that
+/// point's id; the others get ids after the contact points, in key order. Returns all
+/// intersection points.
 fn number_crossings(
     input: &Input,
     mut points: Vec<Point>,
+    ids: &FxHashMap<PointKey, u32>,
     splits: &mut [TriangleSplit],
 ) -> Vec<Point> {
-    let mut found: Vec<(PointKey, Point)> = (splits.iter())
-        .flat_map(|s| s.crossings.iter().copied())
-        .collect();
-    if found.is_empty() {
+    if splits.iter().all(|s| s.crossings.is_empty()) {
         return points;
     }
+    let mut found: Vec<(PointKey, Point)> = (splits.iter())
+        .flat_map(|s| s.crossings.iter().copied())
+        .filter(|(key, _)| !ids.contains_key(key))
+        .collect();
     found.sort_unstable_by_key(|x| x.0);
     found.dedup_by(|x, y| x.0 == y.0);
     let first = (input.positions.len() + points.len()) as u32;
-    let id_of = |key: &PointKey| {
-        first
-            + found
-                .binary_search_by(|x| x.0.cmp(key))
-                .expect("every crossing was found") as u32
+    let id_of = |key: &PointKey| match ids.get(key) {
+        Some(&id) => id,
+        None => {
+            first
+                + found
+                    .binary_search_by(|x| x.0.cmp(key))
+                    .expect("every crossing was found") as u32
+        }
     };
     for s in splits.iter_mut() {
         if s.crossings.is_empty() {
@@ -348,7 +364,9 @@ fn split_one(
             }
         }
     }
-    segments.sort_unstable_by_key(|s| s.0);
+    // Of the supports of one segment, keep an edge if there is one (see `marks_of`); the
+    // sort is stable, so the choice does not depend on the thread count.
+    segments.sort_by_key(|s| (s.0, matches!(s.1, Support::Plane(_))));
     segments.dedup_by_key(|s| s.0);
     let crossings = cut_crossing_segments(input, t, &mut points, &mut segments);
     for i in 0..crossings.len() {
