@@ -75,7 +75,9 @@ fn folds_after_rounding(mesh: &Mesh, rounded: &[bool]) -> usize {
         .collect();
     let around =
         Mesh::from_triangles(positions, &triangles).expect("the faces index their vertices");
-    super::self_intersect::self_intersections(&around).pairs.len()
+    super::self_intersect::self_intersections(&around)
+        .pairs
+        .len()
 }
 
 /// The mesh of the kept sub-triangles, and which of its vertices are rounded points.

@@ -70,6 +70,7 @@
 
 use std::borrow::Cow;
 
+use super::topology::has_three_distinct;
 use super::{FaceId, Mesh, MeshParts, weld_positions};
 use crate::kernel::{Sign, orient2d, orient3d};
 
@@ -605,19 +606,6 @@ fn normal_signs(a: [f64; 3], b: [f64; 3], p: [f64; 3]) -> [Sign; 3] {
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
         orient2d([a[u], a[v]], [b[u], b[v]], [p[u], p[v]])
     })
-}
-
-/// Whether a face has at least three distinct vertex indices: the rule by which
-/// [`Topology`](super::Topology) leaves faces out, so that the output's topology counts the
-/// same faces.
-fn has_three_distinct(corners: &[u32]) -> bool {
-    if let [a, b, c] = corners {
-        return a != b && b != c && a != c;
-    }
-    let mut sorted = corners.to_vec();
-    sorted.sort_unstable();
-    sorted.dedup();
-    sorted.len() >= 3
 }
 
 #[cfg(test)]

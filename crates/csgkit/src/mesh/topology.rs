@@ -362,8 +362,9 @@ fn corner_faces(mesh: &Mesh) -> Option<Vec<u32>> {
     Some(faces)
 }
 
-/// Whether a face has at least three distinct vertex indices.
-fn has_three_distinct(corners: &[u32]) -> bool {
+/// Whether a face has at least three distinct vertex indices: faces with fewer take no part
+/// in the topology (nor in the manifold split, which follows the same rule).
+pub(super) fn has_three_distinct(corners: &[u32]) -> bool {
     if let [a, b, c] = corners {
         return a != b && b != c && a != c;
     }
