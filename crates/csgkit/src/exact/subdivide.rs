@@ -24,7 +24,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use crate::index::Aabb;
-use crate::kernel::{Point, Sign, compare_lex, orient2d_projected};
+use crate::kernel::{Point, Sign, compare_lex, orient2d_projected, simplify};
 use crate::mesh::union_find::UnionFind;
 
 use super::boolean::BooleanError;
@@ -179,7 +179,7 @@ pub(crate) fn split(input: &Input, contacts: Contacts) -> Result<Arrangement, Bo
     let groups: Vec<&[(u32, Mark)]> = marks.chunk_by(|x, y| x.0 == y.0).collect();
     let splits: Vec<Result<TriangleSplit, BooleanError>> = groups
         .par_iter()
-        .map(|group| split_one(input, group, &ids))
+        .map(|group| split_one(input, group, &ids, &points))
         .collect();
     let mut splits: Vec<TriangleSplit> = splits.into_iter().collect::<Result<_, _>>()?;
     let points = number_crossings(input, points, &ids, &mut splits);
@@ -253,7 +253,8 @@ fn number_points(input: &Input, marks: &[(u32, Mark)]) -> (FxHashMap<PointKey, u
     let ids = (keyed.iter().enumerate())
         .map(|(i, (key, _))| (*key, n + i as u32))
         .collect();
-    (ids, keyed.into_iter().map(|(_, p)| p).collect())
+    let points = keyed.into_par_iter().map(|(_, p)| simplify(p)).collect();
+    (ids, points)
 }
 
 /// The global id of a key.
@@ -336,6 +337,7 @@ fn split_one(
     input: &Input,
     group: &[(u32, Mark)],
     ids: &FxHashMap<PointKey, u32>,
+    contact_points: &[Point],
 ) -> Result<TriangleSplit, BooleanError> {
     let t = group[0].0;
     let tri = &input.triangles[t as usize];
@@ -350,7 +352,12 @@ fn split_one(
             let g = global_id(key, ids);
             local_of.entry(g).or_insert_with(|| {
                 global.push(g);
-                points.push(*point);
+                // The numbered point: an implicit one may have become explicit.
+                let n = input.positions.len();
+                points.push(match (g as usize).checked_sub(n) {
+                    Some(i) => contact_points[i],
+                    None => *point,
+                });
                 (global.len() - 1) as u32
             });
         }
@@ -442,7 +449,8 @@ fn cut_crossing_segments(
             ) {
                 continue;
             }
-            let Some((key, x)) = crossing_point(input, t, sa, sb) else {
+            let Some((key, x)) = crossing_point(input, t, sa, sb).map(|(k, x)| (k, simplify(x)))
+            else {
                 continue;
             };
             let id = match crossings.iter().position(|c| c.0 == key) {

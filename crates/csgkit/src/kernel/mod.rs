@@ -109,6 +109,7 @@ pub use predicates::{
     compare_along, compare_lex, orient2d_projected, orient3d_plane, orient3d_points, same_point,
 };
 pub(crate) use rounding::round_point;
+pub use rounding::simplify;
 
 /// The sign of an exact quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

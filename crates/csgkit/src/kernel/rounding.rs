@@ -27,12 +27,52 @@ pub(crate) fn round_point(p: &Point) -> Point3 {
     [x, y, z].map(|n| round_quotient(n.value(), w.value(), e_low))
 }
 
+/// `p` as an explicit point when its exact coordinates are f64 numbers, else `p`.
+///
+/// Intersection points of inputs on a grid (integer boxes, voxel models) usually are; as
+/// explicit points every later predicate on them takes the fast path. Only points whose
+/// rounded coordinates are short binary numbers (at least 16 trailing zero bits) are tried,
+/// so the big-integer test is skipped for points in general position.
+pub fn simplify(p: Point) -> Point {
+    if p.is_explicit() {
+        return p;
+    }
+    // The approximation is a few ulps off: accept low bits near all zeros or all ones.
+    let short = |x: f64| {
+        let low = x.to_bits() & 0xffff;
+        x == 0.0 || low <= 16 || low >= 0xffff - 16
+    };
+    if !p.approx().iter().all(|&x| x.is_finite() && short(x)) {
+        return p;
+    }
+    let e_low = (p.coords().iter())
+        .filter(|&&x| x != 0.0)
+        .map(|&x| decompose(x).1)
+        .min()
+        .unwrap_or(0);
+    let conv = |x: f64| Big::scaled(x, e_low);
+    let [x, y, z, w] = p.hom(&conv, &Big::one());
+    let exact = |n: &Big| {
+        let (value, exact) = quotient(n.value(), w.value(), e_low);
+        exact.then_some(value)
+    };
+    match (exact(&x), exact(&y), exact(&z)) {
+        (Some(x), Some(y), Some(z)) => Point::Explicit([x, y, z]),
+        _ => p,
+    }
+}
+
 /// `n / d * 2^e` rounded to the nearest f64, ties to even; `d` nonzero. The result is assumed
 /// to be a normal number or zero (intersection points lie among finite inputs).
 fn round_quotient(n: &BigInt, d: &BigInt, e: i32) -> f64 {
+    quotient(n, d, e).0
+}
+
+/// [`round_quotient`] and whether the rounding was exact.
+fn quotient(n: &BigInt, d: &BigInt, e: i32) -> (f64, bool) {
     use num_bigint::Sign;
     if n.sign() == Sign::NoSign {
-        return 0.0;
+        return (0.0, true);
     }
     let negative = (n.sign() == Sign::Minus) != (d.sign() == Sign::Minus);
     let (n, d) = (n.magnitude(), d.magnitude());
@@ -57,7 +97,8 @@ fn round_quotient(n: &BigInt, d: &BigInt, e: i32) -> f64 {
     // value = mantissa * 2^(shift + e - k); mantissa <= 2^53 is exact as an f64.
     let exp = shift as i64 + e as i64 - k;
     let magnitude = times_pow2(mantissa as f64, exp);
-    if negative { -magnitude } else { magnitude }
+    let exact = dropped == 0 && !sticky;
+    (if negative { -magnitude } else { magnitude }, exact)
 }
 
 /// `x * 2^exp`, by steps that keep each factor a normal power of two.
@@ -103,6 +144,28 @@ mod tests {
         )
         .expect("the segment crosses the plane");
         assert_eq!(round_point(&p), [1.0, 1.0 / 3.0, 0.0]);
+    }
+
+    #[test]
+    fn grid_points_become_explicit() {
+        let on_grid = Point::lpi(
+            [0.0, 0.0, 0.0],
+            [4.0, 2.0, 6.0],
+            [0.0, 0.0, 3.0],
+            [1.0, 0.0, 3.0],
+            [0.0, 1.0, 3.0],
+        )
+        .expect("the segment crosses the plane");
+        assert!(matches!(simplify(on_grid), Point::Explicit([2.0, 1.0, 3.0])));
+        let a_third = Point::lpi(
+            [0.0, 0.0, 0.0],
+            [3.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 0.0, 1.0],
+        )
+        .expect("the segment crosses the plane");
+        assert!(!simplify(a_third).is_explicit());
     }
 
     #[test]
