@@ -253,7 +253,7 @@ fn number_points(input: &Input, marks: &[(u32, Mark)]) -> (FxHashMap<PointKey, u
     let ids = (keyed.iter().enumerate())
         .map(|(i, (key, _))| (*key, n + i as u32))
         .collect();
-    let points = keyed.into_par_iter().map(|(_, p)| simplify(p)).collect();
+    let points: Vec<Point> = keyed.into_par_iter().map(|(_, p)| simplify(p)).collect();
     (ids, points)
 }
 

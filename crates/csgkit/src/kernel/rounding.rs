@@ -37,10 +37,10 @@ pub fn simplify(p: Point) -> Point {
     if p.is_explicit() {
         return p;
     }
-    // The approximation is a few ulps off: accept low bits near all zeros or all ones.
+    // The approximation may be some ulps off: accept low bits near all zeros or all ones.
     let short = |x: f64| {
-        let low = x.to_bits() & 0xffff;
-        x == 0.0 || low <= 16 || low >= 0xffff - 16
+        let low = x.to_bits() & 0xff_ffff;
+        x == 0.0 || low <= 0xfff || low >= 0xff_ffff - 0xfff
     };
     if !p.approx().iter().all(|&x| x.is_finite() && short(x)) {
         return p;
