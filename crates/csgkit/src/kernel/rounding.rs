@@ -156,7 +156,10 @@ mod tests {
             [0.0, 1.0, 3.0],
         )
         .expect("the segment crosses the plane");
-        assert!(matches!(simplify(on_grid), Point::Explicit([2.0, 1.0, 3.0])));
+        assert!(matches!(
+            simplify(on_grid),
+            Point::Explicit([2.0, 1.0, 3.0])
+        ));
         let a_third = Point::lpi(
             [0.0, 0.0, 0.0],
             [3.0, 1.0, 0.0],
