@@ -10,6 +10,12 @@
 //!
 //! The self query walks the one tree against itself and visits each unordered node pair
 //! once: a node against itself expands to (left, left), (right, right) and (left, right).
+//!
+//! The `_filter_map` forms call a function on each pair as the descent finds it and keep
+//! only what it returns, so a caller that rejects most candidates (the self-intersection
+//! check keeps a handful of tens of millions) never stores the candidate list; the exact test
+//! runs while the pair's boxes and triangles are still in cache. The order is the same as the
+//! pair lists' order.
 
 use rayon::prelude::*;
 
@@ -31,41 +37,63 @@ struct Walk<'a> {
 impl Bvh {
     /// Every pair `(id in self, id in other)` whose primitive boxes overlap (touching counts).
     pub fn overlapping_pairs(&self, other: &Bvh) -> Vec<(u32, u32)> {
-        Walk {
-            a: self,
-            b: other,
-            same_tree: false,
-        }
-        .run()
+        self.overlapping_filter_map(other, |i, j| Some((i, j)))
     }
 
     /// Every unordered pair of distinct primitives of this tree whose boxes overlap, each
     /// once, as `(smaller id, larger id)`.
     pub fn self_overlapping_pairs(&self) -> Vec<(u32, u32)> {
+        self.self_overlapping_filter_map(|i, j| Some((i, j)))
+    }
+
+    /// [`Bvh::overlapping_pairs`] passed through `f` as they are found: the `Some` values, in
+    /// the order of the pairs. `f` runs on several threads at once.
+    pub fn overlapping_filter_map<T: Send>(
+        &self,
+        other: &Bvh,
+        f: impl Fn(u32, u32) -> Option<T> + Sync,
+    ) -> Vec<T> {
+        Walk {
+            a: self,
+            b: other,
+            same_tree: false,
+        }
+        .run(f)
+    }
+
+    /// [`Bvh::self_overlapping_pairs`] passed through `f` as they are found (each unordered
+    /// pair once, smaller id first): the `Some` values, in the order of the pairs. `f` runs on
+    /// several threads at once.
+    pub fn self_overlapping_filter_map<T: Send>(
+        &self,
+        f: impl Fn(u32, u32) -> Option<T> + Sync,
+    ) -> Vec<T> {
         Walk {
             a: self,
             b: self,
             same_tree: true,
         }
-        .run()
+        .run(f)
     }
 }
 
 impl Walk<'_> {
-    fn run(self) -> Vec<(u32, u32)> {
+    fn run<T: Send>(self, f: impl Fn(u32, u32) -> Option<T> + Sync) -> Vec<T> {
         if self.a.is_empty() || self.b.is_empty() {
             return Vec::new();
         }
         let frontier = self.frontier(FRONTIER_TARGET);
-        let parts: Vec<Vec<(u32, u32)>> = frontier
+        let parts: Vec<Vec<T>> = frontier
             .par_iter()
             .map(|&pair| {
                 let mut out = Vec::new();
-                self.descend(pair, &mut out);
+                self.descend(pair, &mut |i, j| out.extend(f(i, j)));
                 out
             })
             .collect();
-        parts.concat()
+        let mut all = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+        parts.into_iter().for_each(|part| all.extend(part));
+        all
     }
 
     /// Node pairs whose subtrees together hold every overlapping primitive pair, expanded
@@ -95,12 +123,13 @@ impl Walk<'_> {
         frontier
     }
 
-    /// Depth-first descent below one node pair, appending overlapping primitive pairs.
-    fn descend(self, root: (usize, usize), out: &mut Vec<(u32, u32)>) {
+    /// Depth-first descent below one node pair, calling `visit` on overlapping primitive
+    /// pairs.
+    fn descend(self, root: (usize, usize), visit: &mut impl FnMut(u32, u32)) {
         let mut stack = vec![root];
         while let Some(pair) = stack.pop() {
             if self.is_leaf_pair(pair) {
-                self.leaf_pairs(pair, out);
+                self.leaf_pairs(pair, visit);
             } else {
                 self.children(pair, |child| stack.push(child));
             }
@@ -141,8 +170,8 @@ impl Walk<'_> {
         }
     }
 
-    /// Appends the overlapping primitive pairs of two leaves.
-    fn leaf_pairs(self, (a, b): (usize, usize), out: &mut Vec<(u32, u32)>) {
+    /// Calls `visit` on the overlapping primitive pairs of two leaves.
+    fn leaf_pairs(self, (a, b): (usize, usize), visit: &mut impl FnMut(u32, u32)) {
         let (ra, rb) = (self.a.leaf_primitives(a), self.b.leaf_primitives(b));
         for i in ra {
             let box_a: &Aabb = &self.a.boxes[i];
@@ -154,11 +183,11 @@ impl Walk<'_> {
             for j in rb {
                 if box_a.overlaps(&self.b.boxes[j]) {
                     let (ia, ib) = (self.a.ids[i], self.b.ids[j]);
-                    out.push(if self.same_tree && ib < ia {
-                        (ib, ia)
+                    if self.same_tree && ib < ia {
+                        visit(ib, ia);
                     } else {
-                        (ia, ib)
-                    });
+                        visit(ia, ib);
+                    }
                 }
             }
         }
@@ -214,6 +243,27 @@ mod tests {
             let want: Vec<_> = brute_pairs(&a, &a).into_iter().filter(|(i, j)| i < j).collect();
             prop_assert_eq!(got, want);
         }
+    }
+
+    #[test]
+    fn filter_map_keeps_the_order_of_the_pairs() {
+        let boxes: Vec<Aabb> = (0..3000)
+            .map(|i| {
+                let p = [(i % 13) as f64, (i % 19) as f64, (i % 31) as f64];
+                Aabb::from_points(&[p, [p[0] + 2.0, p[1] + 1.0, p[2] + 1.5]])
+            })
+            .collect();
+        let (bvh, half) = (Bvh::build(&boxes), Bvh::build(&boxes[..1500]));
+        let odd = |i: u32, j: u32| ((i + j) % 2 == 1).then_some((j, i));
+        let want: Vec<_> = (bvh.self_overlapping_pairs().into_iter())
+            .filter_map(|(i, j)| odd(i, j))
+            .collect();
+        assert!(!want.is_empty());
+        assert_eq!(bvh.self_overlapping_filter_map(odd), want);
+        let want: Vec<_> = (bvh.overlapping_pairs(&half).into_iter())
+            .filter_map(|(i, j)| odd(i, j))
+            .collect();
+        assert_eq!(bvh.overlapping_filter_map(&half, odd), want);
     }
 
     #[test]
