@@ -19,7 +19,8 @@
 
 use rayon::prelude::*;
 
-use super::{Aabb, Bvh};
+use super::bvh_build::LEAF_SIZE;
+use super::Bvh;
 
 /// Frontier size: enough pairs to balance uneven subtrees over many threads. It is fixed,
 /// not scaled by the thread count, because the output order follows the frontier.
@@ -171,32 +172,58 @@ impl Walk<'_> {
     }
 
     /// Calls `visit` on the overlapping primitive pairs of two leaves.
+    ///
+    /// All box tests of the two leaves run first, into a bit mask, and only the hits are
+    /// then visited: whether two neighbouring boxes overlap is a coin toss for the branch
+    /// predictor, so the tests are kept free of branches.
     fn leaf_pairs(self, (a, b): (usize, usize), visit: &mut impl FnMut(u32, u32)) {
+        const _: () = assert!(LEAF_SIZE * LEAF_SIZE <= 64, "leaf pair masks are u64");
         let (ra, rb) = (self.a.leaf_primitives(a), self.b.leaf_primitives(b));
-        for i in ra {
-            let box_a: &Aabb = &self.a.boxes[i];
-            let rb = if self.same_tree && a == b {
-                i + 1..rb.end
+        let (boxes_a, boxes_b) = (&self.a.boxes[ra.clone()], &self.b.boxes[rb.clone()]);
+        let mut hits = 0u64;
+        for (x, box_a) in boxes_a.iter().enumerate() {
+            for (y, box_b) in boxes_b.iter().enumerate() {
+                hits |= u64::from(box_a.overlaps(box_b)) << (x * LEAF_SIZE + y);
+            }
+        }
+        let diagonal = self.same_tree && a == b;
+        if diagonal {
+            // A leaf against itself: only y > x (each unordered pair once, no self pairs).
+            hits &= UPPER_TRIANGLE;
+        }
+        while hits != 0 {
+            let bit = hits.trailing_zeros() as usize;
+            hits &= hits - 1;
+            let (i, j) = (ra.start + bit / LEAF_SIZE, rb.start + bit % LEAF_SIZE);
+            let (ia, ib) = (self.a.ids[i], self.b.ids[j]);
+            if self.same_tree && ib < ia {
+                visit(ib, ia);
             } else {
-                rb.clone()
-            };
-            for j in rb {
-                if box_a.overlaps(&self.b.boxes[j]) {
-                    let (ia, ib) = (self.a.ids[i], self.b.ids[j]);
-                    if self.same_tree && ib < ia {
-                        visit(ib, ia);
-                    } else {
-                        visit(ia, ib);
-                    }
-                }
+                visit(ia, ib);
             }
         }
     }
 }
 
+/// The bits `x * LEAF_SIZE + y` with `y > x`: the pairs of a leaf against itself.
+const UPPER_TRIANGLE: u64 = {
+    let mut mask = 0u64;
+    let mut x = 0;
+    while x < LEAF_SIZE {
+        let mut y = x + 1;
+        while y < LEAF_SIZE {
+            mask |= 1 << (x * LEAF_SIZE + y);
+            y += 1;
+        }
+        x += 1;
+    }
+    mask
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::index::Aabb;
     use proptest::prelude::*;
 
     fn brute_pairs(a: &[Aabb], b: &[Aabb]) -> Vec<(u32, u32)> {
