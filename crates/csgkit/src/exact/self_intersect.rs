@@ -39,6 +39,8 @@
 //! without self-intersection the candidates are mostly neighbours (a few per triangle).
 //! The output is the same for every thread count.
 
+use std::cmp::Ordering;
+
 use rayon::prelude::*;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
@@ -135,30 +137,163 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
 
 /// Whether a pair of triangles of one mesh counts as intersecting (libigl's rules).
 ///
-/// Neighbours are most candidate pairs, so they are decided by exact tests on explicit points
-/// without building intersection points: a pair sharing an edge counts only when coplanar and
-/// folded over ([`folded_over`]); coplanar triangles sharing one vertex count when their
-/// corners there overlap ([`wedges_overlap`]); non-coplanar ones meet only at the vertex when
-/// the other two vertices of either triangle lie strictly on one side of the other's plane.
+/// Most candidate pairs are decided by the sides of one triangle's vertices against the
+/// other's plane ([`Plane::side`]), without building intersection points:
+/// - sharing an edge: they count only when coplanar (one side test) and folded over
+///   ([`folded_over`]);
+/// - sharing one vertex: the other two vertices of either triangle strictly on one side of
+///   the other's plane leave the shared vertex as the only common point; both on the plane:
+///   coplanar, decided by [`wedges_overlap`];
+/// - sharing nothing: all three vertices of either triangle strictly on one side of the
+///   other's plane: disjoint.
+///
 /// The rest goes to [`intersect_triangles`].
 fn counts(a: &Triangle, b: &Triangle) -> bool {
     let (va, vb) = (a.vertices(), b.vertices());
-    let shared = va.iter().filter(|v| vb.contains(v)).count();
-    if shared == 0 {
-        return by_classification(a, b, shared);
+    let b_in_a = vb.map(|v| va.contains(&v));
+    let shared = b_in_a.iter().filter(|&&s| s).count();
+    if shared == 3 {
+        return false;
     }
-    let b_off = unshared_signs(b, &va, &a.positions());
-    let coplanar = b_off.iter().flatten().all(|&s| s == Sign::Zero);
+    let pa = Plane::of(a);
+    let (pb, bp) = (b.positions(), b_in_a);
+    // The vertices of `b` that `a` does not have, against the plane of `a`.
+    let b_off = [0, 1, 2].map(|i| (!bp[i]).then(|| pa.side(pb[i])));
     match shared {
-        2 => return coplanar && folded_over(a, b),
-        3 => return false,
-        1 if coplanar => return wedges_overlap(a, b),
-        1 if one_sided(&b_off) || one_sided(&unshared_signs(a, &vb, &b.positions())) => {
-            return false;
-        }
+        2 => return b_off.iter().flatten().all(|&s| s == Sign::Zero) && folded_over(a, b),
+        1 if b_off.iter().flatten().all(|&s| s == Sign::Zero) => return wedges_overlap(a, b),
+        _ if one_sided(&b_off) => return false,
         _ => {}
     }
+    let plane_b = Plane::of(b);
+    let pa_pos = a.positions();
+    let a_off = [0, 1, 2].map(|i| (!vb.contains(&va[i])).then(|| plane_b.side(pa_pos[i])));
+    if one_sided(&a_off) {
+        return false;
+    }
     by_classification(a, b, shared)
+}
+
+/// The plane of a triangle `p, q, r`, prepared for side tests of points.
+///
+/// [`Plane::side`] gives the sign of [`orient3d`]`(p, q, r, s)` up to a factor `±1` that
+/// depends on the plane only: the candidate tests compare sides against one plane and test
+/// them for zero, for which that factor does not matter. Exact, like [`orient3d`]; most
+/// tests are decided by a few multiplications:
+/// - **aligned**: the three vertices share a coordinate (a face of a CAD model along an axis
+///   plane). The plane is `x_k = p_k`, and the side of `s` is the comparison of `s_k` with
+///   `p_k`; exact, with no rounding at all. It also keeps coplanar points, common on such
+///   models, away from the slow exact stages [`orient3d`] needs for a zero.
+/// - **filtered**: CGAL's semi-static filter for `orient3d` (`Static_filters/Orientation_3.h`,
+///   error bound by Meyer & Pion's FPG, "A C++ static floating-point filter generator",
+///   2008): the determinant of the rows `q - p`, `r - p`, `s - p` evaluated in f64 is the
+///   true sign when its magnitude exceeds `5.1107127829973299e-15` times the product of the
+///   largest absolute entry of each row, provided those three maxima lie in `[1e-97, 1e102)`
+///   (no underflow or overflow). CGAL bounds the columns of its matrix; we evaluate the
+///   transposed matrix, whose columns are our rows, with the same formula (CGAL's
+///   `determinant`: 2 × 2 minors of its first two columns, then expansion along the third),
+///   so the minors involve only `q - p` and `r - p` and are computed once per plane. When
+///   the filter cannot decide, [`orient3d`] does.
+#[derive(Clone, Copy, Debug)]
+enum Plane {
+    /// All vertices have coordinate `level` on `axis`.
+    Aligned { axis: usize, level: f64 },
+    /// The general case: `minors` are CGAL's `m01`, `m02`, `m12` of the transposed matrix,
+    /// `scale` is the error bound's constant times the maxima of the first two rows (NaN
+    /// when they are out of the filter's range, which fails every comparison).
+    Filtered {
+        corners: [Point3; 3],
+        minors: [f64; 3],
+        scale: f64,
+    },
+}
+
+/// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Plane`]).
+const O3D_STATIC_BOUND: f64 = 5.1107127829973299e-15;
+/// Row maxima below this may underflow in the filter: `cbrt(f64::MIN_POSITIVE / eps)`.
+const O3D_STATIC_LOW: f64 = 1e-97;
+/// Row maxima at or above this may overflow in the filter.
+const O3D_STATIC_HIGH: f64 = 1e102;
+
+impl Plane {
+    /// The plane of `t`.
+    #[inline]
+    fn of(t: &Triangle) -> Plane {
+        let [p, q, r] = t.positions();
+        if let Some(axis) = (0..3).find(|&k| p[k] == q[k] && p[k] == r[k]) {
+            return Plane::Aligned {
+                axis,
+                level: p[axis],
+            };
+        }
+        let (pq, pr) = (sub(q, p), sub(r, p));
+        let minors = [
+            pq[0] * pr[1] - pq[1] * pr[0],
+            pq[0] * pr[2] - pq[2] * pr[0],
+            pq[1] * pr[2] - pq[2] * pr[1],
+        ];
+        let (mq, mr) = (max_abs(pq), max_abs(pr));
+        // Same operation order as CGAL's `eps = c * maxx * maxy * maxz`.
+        let scale = if in_filter_range(mq) && in_filter_range(mr) {
+            O3D_STATIC_BOUND * mq * mr
+        } else {
+            f64::NAN
+        };
+        Plane::Filtered {
+            corners: [p, q, r],
+            minors,
+            scale,
+        }
+    }
+
+    /// The side of `s`: [`orient3d`] of the triangle's corners and `s`, up to the plane's
+    /// fixed factor.
+    #[inline]
+    fn side(&self, s: Point3) -> Sign {
+        match *self {
+            // The exact sign of `level - s[axis]`; equal to `orient3d` times the sign of the
+            // triangle's turn in the plane (expand the determinant along column `axis`).
+            Plane::Aligned { axis, level } => match s[axis].partial_cmp(&level) {
+                Some(Ordering::Less) => Sign::Positive,
+                Some(Ordering::Greater) => Sign::Negative,
+                _ => Sign::Zero,
+            },
+            Plane::Filtered {
+                corners: [p, q, r],
+                minors: [m01, m02, m12],
+                scale,
+            } => {
+                let ps = sub(s, p);
+                let det = m01 * ps[2] - m02 * ps[1] + m12 * ps[0];
+                let ms = max_abs(ps);
+                let eps = scale * ms;
+                // NaN `scale` (or `ms` out of range) fails both comparisons.
+                if in_filter_range(ms) {
+                    // `orient3d` is positive below the plane: the opposite of this
+                    // determinant's sign.
+                    if det > eps {
+                        return Sign::Negative;
+                    }
+                    if det < -eps {
+                        return Sign::Positive;
+                    }
+                }
+                orient3d(p, q, r, s)
+            }
+        }
+    }
+}
+
+fn in_filter_range(m: f64) -> bool {
+    (O3D_STATIC_LOW..O3D_STATIC_HIGH).contains(&m)
+}
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn max_abs(v: Point3) -> f64 {
+    v[0].abs().max(v[1].abs()).max(v[2].abs())
 }
 
 /// libigl's rules applied to the full classification (for pairs sharing no edge).
@@ -174,14 +309,6 @@ fn by_classification(a: &Triangle, b: &Triangle, shared: usize) -> bool {
         2 => matches!(found, Intersection::CoplanarOverlap(_)),
         _ => false,
     }
-}
-
-/// [`orient3d`] against `plane` of each vertex of `t` that is not in `shared_with`.
-fn unshared_signs(t: &Triangle, shared_with: &[u32; 3], plane: &[Point3; 3]) -> [Option<Sign>; 3] {
-    let (v, p) = (t.vertices(), t.positions());
-    [0, 1, 2].map(|i| {
-        (!shared_with.contains(&v[i])).then(|| orient3d(plane[0], plane[1], plane[2], p[i]))
-    })
 }
 
 /// True when the given signs are all equal and nonzero.
@@ -262,6 +389,67 @@ mod tests {
             };
             prop_assert_eq!(counts(&ta, &tb), by_classification(&ta, &tb, share));
             prop_assert_eq!(counts(&tb, &ta), by_classification(&tb, &ta, share));
+        }
+    }
+
+    /// Asserts that `Plane::side` is `orient3d` times one factor per plane.
+    fn check_sides(corners: [Point3; 3], points: &[Point3]) -> Result<(), TestCaseError> {
+        let Some(t) = Triangle::new(0, [0, 1, 2], corners) else {
+            return Ok(());
+        };
+        let plane = Plane::of(&t);
+        let mut factor = None;
+        for &s in points {
+            let (side, exact) = (plane.side(s), orient3d(corners[0], corners[1], corners[2], s));
+            prop_assert_eq!(side == Sign::Zero, exact == Sign::Zero, "{:?} {:?}", corners, s);
+            if exact != Sign::Zero {
+                let f = *factor.get_or_insert(side.times(exact));
+                prop_assert_eq!(side.times(exact), f, "{:?} {:?}", corners, s);
+            }
+        }
+        if matches!(plane, Plane::Filtered { .. }) {
+            prop_assert_ne!(factor, Some(Sign::Negative), "filtered sides are orient3d's");
+        }
+        Ok(())
+    }
+
+    /// A point near the plane of `c`: `c[0] + u (c[1] - c[0]) + v (c[2] - c[0])` in f64,
+    /// nudged by `ulps` units in the last place, so that the filter often cannot decide.
+    fn near_plane(c: [Point3; 3], u: f64, v: f64, ulps: i64) -> Point3 {
+        std::array::from_fn(|k| {
+            let x = c[0][k] + u * (c[1][k] - c[0][k]) + v * (c[2][k] - c[0][k]);
+            f64::from_bits((x.to_bits() as i64 + ulps) as u64)
+        })
+    }
+
+    fn scaled_point(scale: f64) -> impl Strategy<Value = Point3> {
+        [-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64].prop_map(move |p| p.map(|x| x * scale))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// Grid points: aligned planes, coplanar points and exact zeros are common.
+        #[test]
+        fn plane_sides_on_a_grid(
+            c in [small_point(), small_point(), small_point()],
+            points in proptest::collection::vec(small_point(), 1..20),
+        ) {
+            check_sides(c, &points)?;
+        }
+
+        /// Points on and next to the plane at every scale, including scales outside the
+        /// filter's range (1e-100 and 1e110), where `orient3d` decides.
+        #[test]
+        fn plane_sides_near_the_plane(
+            scale in prop::sample::select(vec![1e-100, 1e-3, 1.0, 1e5, 1e110]),
+            c in [scaled_point(1.0), scaled_point(1.0), scaled_point(1.0)],
+            offset in scaled_point(1.0),
+            near in proptest::collection::vec((-2.0..2.0f64, -2.0..2.0f64, -3i64..=3), 1..20),
+        ) {
+            let c = c.map(|p| std::array::from_fn(|k| (p[k] + offset[k] * 100.0) * scale));
+            let points: Vec<Point3> = near.iter().map(|&(u, v, d)| near_plane(c, u, v, d)).collect();
+            check_sides(c, &points)?;
         }
     }
 
