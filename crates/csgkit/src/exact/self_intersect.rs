@@ -107,8 +107,14 @@ pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
         .par_iter()
         .map(|t| Aabb::from_points(t.positions().iter()))
         .collect();
-    let mut pairs = Bvh::build(&boxes).self_overlapping_filter_map(|i, j| {
-        counts(&triangles[i as usize], &triangles[j as usize]).then_some((i, j))
+    // Triangles in the tree's order, so that the walk reads them almost sequentially.
+    let (bvh, order) = Bvh::build(&boxes).into_tree_order();
+    let sorted: Vec<Triangle> = order.par_iter().map(|&i| triangles[i as usize]).collect();
+    let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
+        counts(&sorted[x as usize], &sorted[y as usize]).then(|| {
+            let (i, j) = (order[x as usize], order[y as usize]);
+            (i.min(j), i.max(j))
+        })
     });
     pairs.par_sort_unstable();
     pairs.dedup();
