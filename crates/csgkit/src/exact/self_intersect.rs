@@ -109,7 +109,9 @@ pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
         .collect();
     // Triangles in the tree's order, so that the walk reads them almost sequentially.
     let (bvh, order) = Bvh::build(&boxes).into_tree_order();
-    let sorted: Vec<Triangle> = order.par_iter().map(|&i| triangles[i as usize]).collect();
+    let sorted: Vec<Prepared> = (order.par_iter())
+        .map(|&i| Prepared::new(triangles[i as usize]))
+        .collect();
     let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
         counts(&sorted[x as usize], &sorted[y as usize]).then(|| {
             let (i, j) = (order[x as usize], order[y as usize]);
@@ -144,7 +146,7 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
 /// Whether a pair of triangles of one mesh counts as intersecting (libigl's rules).
 ///
 /// Most candidate pairs are decided by the sides of one triangle's vertices against the
-/// other's plane ([`Plane::side`]), without building intersection points:
+/// other's plane ([`Prepared::side`]), without building intersection points:
 /// - sharing an edge: they count only when coplanar (one side test) and folded over
 ///   ([`folded_over`]);
 /// - sharing one vertex: the other two vertices of either triangle strictly on one side of
@@ -154,35 +156,38 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
 ///   other's plane: disjoint.
 ///
 /// The rest goes to [`intersect_triangles`].
-fn counts(a: &Triangle, b: &Triangle) -> bool {
-    let (va, vb) = (a.vertices(), b.vertices());
-    let b_in_a = vb.map(|v| va.contains(&v));
-    let shared = b_in_a.iter().filter(|&&s| s).count();
-    if shared == 3 {
-        return false;
+fn counts(a: &Prepared, b: &Prepared) -> bool {
+    let (ta, tb) = (&a.triangle, &b.triangle);
+    let (va, vb) = (ta.vertices(), tb.vertices());
+    // Bit i: vertex i of `b` is a vertex of `a`. Without branches: along a walk the sharing
+    // pattern of consecutive pairs is unpredictable.
+    let in_a = |v: u32| u8::from((v == va[0]) | (v == va[1]) | (v == va[2]));
+    let shared = in_a(vb[0]) | in_a(vb[1]) << 1 | in_a(vb[2]) << 2;
+    let (pa, pb) = (ta.positions(), tb.positions());
+    match shared.count_ones() {
+        3 => false,
+        2 => {
+            let k = (!shared & 7).trailing_zeros() as usize;
+            a.side(pb[k]) == Sign::Zero && folded_over(ta, tb)
+        }
+        1 => {
+            // `b`'s corner at the shared vertex `vb[k]` is `vb[k], vb[k + 1], vb[k + 2]`.
+            let k = shared.trailing_zeros() as usize;
+            let (s1, s2) = (a.side(pb[(k + 1) % 3]), a.side(pb[(k + 2) % 3]));
+            if s1 == s2 {
+                return s1 == Sign::Zero && wedges_overlap(ta, tb);
+            }
+            let j = usize::from(va[1] == vb[k]) + 2 * usize::from(va[2] == vb[k]);
+            let (s1, s2) = (b.side(pa[(j + 1) % 3]), b.side(pa[(j + 2) % 3]));
+            !(s1 == s2 && s1 != Sign::Zero) && by_classification(ta, tb, 1)
+        }
+        _ => !a.strictly_one_side(&pb) && !b.strictly_one_side(&pa) && by_classification(ta, tb, 0),
     }
-    let pa = Plane::of(a);
-    let (pb, bp) = (b.positions(), b_in_a);
-    // The vertices of `b` that `a` does not have, against the plane of `a`.
-    let b_off = [0, 1, 2].map(|i| (!bp[i]).then(|| pa.side(pb[i])));
-    match shared {
-        2 => return b_off.iter().flatten().all(|&s| s == Sign::Zero) && folded_over(a, b),
-        1 if b_off.iter().flatten().all(|&s| s == Sign::Zero) => return wedges_overlap(a, b),
-        _ if one_sided(&b_off) => return false,
-        _ => {}
-    }
-    let plane_b = Plane::of(b);
-    let pa_pos = a.positions();
-    let a_off = [0, 1, 2].map(|i| (!vb.contains(&va[i])).then(|| plane_b.side(pa_pos[i])));
-    if one_sided(&a_off) {
-        return false;
-    }
-    by_classification(a, b, shared)
 }
 
-/// The plane of a triangle `p, q, r`, prepared for side tests of points.
+/// A triangle `p, q, r` with its plane, prepared for side tests of points.
 ///
-/// [`Plane::side`] gives the sign of [`orient3d`]`(p, q, r, s)` up to a factor `±1` that
+/// [`Prepared::side`] gives the sign of [`orient3d`]`(p, q, r, s)` up to a factor `±1` that
 /// depends on the plane only: the candidate tests compare sides against one plane and test
 /// them for zero, for which that factor does not matter. Exact, like [`orient3d`]; most
 /// tests are decided by a few multiplications:
@@ -201,37 +206,32 @@ fn counts(a: &Triangle, b: &Triangle) -> bool {
 ///   so the minors involve only `q - p` and `r - p` and are computed once per plane. When
 ///   the filter cannot decide, [`orient3d`] does.
 #[derive(Clone, Copy, Debug)]
-enum Plane {
-    /// All vertices have coordinate `level` on `axis`.
-    Aligned { axis: usize, level: f64 },
-    /// The general case: `minors` are CGAL's `m01`, `m02`, `m12` of the transposed matrix,
-    /// `scale` is the error bound's constant times the maxima of the first two rows (NaN
-    /// when they are out of the filter's range, which fails every comparison).
-    Filtered {
-        corners: [Point3; 3],
-        minors: [f64; 3],
-        scale: f64,
-    },
+struct Prepared {
+    triangle: Triangle,
+    /// CGAL's `m01`, `m02`, `m12` of the transposed matrix (see above).
+    minors: [f64; 3],
+    /// The error bound's constant times the maxima of the rows `q - p` and `r - p`; NaN when
+    /// they are out of the filter's range, which fails every comparison.
+    scale: f64,
+    /// The axis whose coordinate all three corners share, if any.
+    aligned: Option<u8>,
 }
 
-/// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Plane`]).
+/// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]).
 const O3D_STATIC_BOUND: f64 = 5.1107127829973299e-15;
 /// Row maxima below this may underflow in the filter: `cbrt(f64::MIN_POSITIVE / eps)`.
 const O3D_STATIC_LOW: f64 = 1e-97;
 /// Row maxima at or above this may overflow in the filter.
 const O3D_STATIC_HIGH: f64 = 1e102;
 
-impl Plane {
-    /// The plane of `t`.
-    #[inline]
-    fn of(t: &Triangle) -> Plane {
-        let [p, q, r] = t.positions();
-        if let Some(axis) = (0..3).find(|&k| p[k] == q[k] && p[k] == r[k]) {
-            return Plane::Aligned {
-                axis,
-                level: p[axis],
-            };
-        }
+impl Prepared {
+    /// `t` with its plane.
+    fn new(triangle: Triangle) -> Prepared {
+        let [p, q, r] = triangle.positions();
+        let aligned = (0..3u8).find(|&k| {
+            let k = usize::from(k);
+            p[k] == q[k] && p[k] == r[k]
+        });
         let (pq, pr) = (sub(q, p), sub(r, p));
         let minors = [
             pq[0] * pr[1] - pq[1] * pr[0],
@@ -245,10 +245,11 @@ impl Plane {
         } else {
             f64::NAN
         };
-        Plane::Filtered {
-            corners: [p, q, r],
+        Prepared {
+            triangle,
             minors,
             scale,
+            aligned,
         }
     }
 
@@ -256,37 +257,40 @@ impl Plane {
     /// fixed factor.
     #[inline]
     fn side(&self, s: Point3) -> Sign {
-        match *self {
+        let [p, q, r] = self.triangle.positions();
+        if let Some(axis) = self.aligned {
             // The exact sign of `level - s[axis]`; equal to `orient3d` times the sign of the
             // triangle's turn in the plane (expand the determinant along column `axis`).
-            Plane::Aligned { axis, level } => match s[axis].partial_cmp(&level) {
+            let (axis, level) = (usize::from(axis), p[usize::from(axis)]);
+            return match s[axis].partial_cmp(&level) {
                 Some(Ordering::Less) => Sign::Positive,
                 Some(Ordering::Greater) => Sign::Negative,
                 _ => Sign::Zero,
-            },
-            Plane::Filtered {
-                corners: [p, q, r],
-                minors: [m01, m02, m12],
-                scale,
-            } => {
-                let ps = sub(s, p);
-                let det = m01 * ps[2] - m02 * ps[1] + m12 * ps[0];
-                let ms = max_abs(ps);
-                let eps = scale * ms;
-                // NaN `scale` (or `ms` out of range) fails both comparisons.
-                if in_filter_range(ms) {
-                    // `orient3d` is positive below the plane: the opposite of this
-                    // determinant's sign.
-                    if det > eps {
-                        return Sign::Negative;
-                    }
-                    if det < -eps {
-                        return Sign::Positive;
-                    }
-                }
-                orient3d(p, q, r, s)
+            };
+        }
+        let [m01, m02, m12] = self.minors;
+        let ps = sub(s, p);
+        let det = m01 * ps[2] - m02 * ps[1] + m12 * ps[0];
+        let ms = max_abs(ps);
+        let eps = self.scale * ms;
+        // A NaN `scale` fails both comparisons.
+        if in_filter_range(ms) {
+            // `orient3d` is positive below the plane: the opposite of this determinant's sign.
+            if det > eps {
+                return Sign::Negative;
+            }
+            if det < -eps {
+                return Sign::Positive;
             }
         }
+        orient3d(p, q, r, s)
+    }
+
+    /// Whether the three points are strictly on one side of the plane: stops at the first
+    /// point that is not on the side of the first.
+    fn strictly_one_side(&self, points: &[Point3; 3]) -> bool {
+        let first = self.side(points[0]);
+        first != Sign::Zero && self.side(points[1]) == first && self.side(points[2]) == first
     }
 }
 
@@ -315,13 +319,6 @@ fn by_classification(a: &Triangle, b: &Triangle, shared: usize) -> bool {
         2 => matches!(found, Intersection::CoplanarOverlap(_)),
         _ => false,
     }
-}
-
-/// True when the given signs are all equal and nonzero.
-fn one_sided(signs: &[Option<Sign>; 3]) -> bool {
-    let mut s = signs.iter().flatten();
-    s.next()
-        .is_some_and(|&first| first != Sign::Zero && s.all(|&x| x == first))
 }
 
 /// `a` and `b` share one vertex `v` and are coplanar: whether they meet beyond `v`. Both are
@@ -393,17 +390,18 @@ mod tests {
             else {
                 return Ok(());
             };
-            prop_assert_eq!(counts(&ta, &tb), by_classification(&ta, &tb, share));
-            prop_assert_eq!(counts(&tb, &ta), by_classification(&tb, &ta, share));
+            let (pa, pb) = (Prepared::new(ta), Prepared::new(tb));
+            prop_assert_eq!(counts(&pa, &pb), by_classification(&ta, &tb, share));
+            prop_assert_eq!(counts(&pb, &pa), by_classification(&tb, &ta, share));
         }
     }
 
-    /// Asserts that `Plane::side` is `orient3d` times one factor per plane.
+    /// Asserts that `Prepared::side` is `orient3d` times one factor per plane.
     fn check_sides(corners: [Point3; 3], points: &[Point3]) -> Result<(), TestCaseError> {
         let Some(t) = Triangle::new(0, [0, 1, 2], corners) else {
             return Ok(());
         };
-        let plane = Plane::of(&t);
+        let plane = Prepared::new(t);
         let mut factor = None;
         for &s in points {
             let (side, exact) = (plane.side(s), orient3d(corners[0], corners[1], corners[2], s));
@@ -413,7 +411,7 @@ mod tests {
                 prop_assert_eq!(side.times(exact), f, "{:?} {:?}", corners, s);
             }
         }
-        if matches!(plane, Plane::Filtered { .. }) {
+        if plane.aligned.is_none() {
             prop_assert_ne!(factor, Some(Sign::Negative), "filtered sides are orient3d's");
         }
         Ok(())
