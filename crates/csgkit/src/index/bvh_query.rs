@@ -19,8 +19,8 @@
 
 use rayon::prelude::*;
 
-use super::bvh_build::LEAF_SIZE;
 use super::Bvh;
+use super::bvh_build::LEAF_SIZE;
 
 /// Frontier size: enough pairs to balance uneven subtrees over many threads. It is fixed,
 /// not scaled by the thread count, because the output order follows the frontier.
@@ -126,13 +126,34 @@ impl Walk<'_> {
 
     /// Depth-first descent below one node pair, calling `visit` on overlapping primitive
     /// pairs.
+    ///
+    /// Two inner nodes, the common case, are expanded inline (the same child pairs in the same
+    /// order as [`Walk::children`]): the walk spends about as long here as in the leaf tests.
     fn descend(self, root: (usize, usize), visit: &mut impl FnMut(u32, u32)) {
-        let mut stack = vec![root];
-        while let Some(pair) = stack.pop() {
-            if self.is_leaf_pair(pair) {
-                self.leaf_pairs(pair, visit);
-            } else {
-                self.children(pair, |child| stack.push(child));
+        let mut stack = Vec::with_capacity(64);
+        stack.push(root);
+        while let Some((a, b)) = stack.pop() {
+            match (self.a.is_leaf(a), self.b.is_leaf(b)) {
+                (true, true) => self.leaf_pairs((a, b), visit),
+                (false, false) => {
+                    let (na, nb) = (&self.a.nodes, &self.b.nodes);
+                    let (a0, a1, b0, b1) = (2 * a + 1, 2 * a + 2, 2 * b + 1, 2 * b + 2);
+                    let diagonal = self.same_tree && a == b;
+                    if na[a0].overlaps(&nb[b0]) {
+                        stack.push((a0, b0));
+                    }
+                    if na[a0].overlaps(&nb[b1]) {
+                        stack.push((a0, b1));
+                    }
+                    // On the diagonal of the self query, (right, left) repeats (left, right).
+                    if !diagonal && na[a1].overlaps(&nb[b0]) {
+                        stack.push((a1, b0));
+                    }
+                    if na[a1].overlaps(&nb[b1]) {
+                        stack.push((a1, b1));
+                    }
+                }
+                _ => self.children((a, b), |child| stack.push(child)),
             }
         }
     }
