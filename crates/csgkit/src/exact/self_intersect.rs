@@ -110,13 +110,12 @@ pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
     // Triangles in the tree's order, so that the walk reads them almost sequentially.
     let (bvh, order) = Bvh::build(&boxes).into_tree_order();
     let sorted: Vec<Prepared> = (order.par_iter())
-        .map(|&i| Prepared::new(triangles[i as usize]))
+        .map(|&i| Prepared::new(&triangles[i as usize]))
         .collect();
     let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
-        counts(&sorted[x as usize], &sorted[y as usize]).then(|| {
-            let (i, j) = (order[x as usize], order[y as usize]);
-            (i.min(j), i.max(j))
-        })
+        let (i, j) = (order[x as usize], order[y as usize]);
+        let full = || (&triangles[i as usize], &triangles[j as usize]);
+        counts(&sorted[x as usize], &sorted[y as usize], full).then(|| (i.min(j), i.max(j)))
     });
     pairs.par_sort_unstable();
     pairs.dedup();
@@ -156,32 +155,51 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
 ///   other's plane: disjoint.
 ///
 /// The rest goes to [`intersect_triangles`].
-fn counts(a: &Prepared, b: &Prepared) -> bool {
-    let (ta, tb) = (&a.triangle, &b.triangle);
-    let (va, vb) = (ta.vertices(), tb.vertices());
+///
+/// `full` gives the two triangles, which only the rare cases read.
+fn counts<'t>(
+    a: &Prepared,
+    b: &Prepared,
+    full: impl FnOnce() -> (&'t Triangle, &'t Triangle),
+) -> bool {
+    let (va, vb) = (a.vertices, b.vertices);
     // Bit i: vertex i of `b` is a vertex of `a`. Without branches: along a walk the sharing
     // pattern of consecutive pairs is unpredictable.
     let in_a = |v: u32| u8::from((v == va[0]) | (v == va[1]) | (v == va[2]));
     let shared = in_a(vb[0]) | in_a(vb[1]) << 1 | in_a(vb[2]) << 2;
-    let (pa, pb) = (ta.positions(), tb.positions());
+    let (pa, pb) = (a.corners, b.corners);
     match shared.count_ones() {
         3 => false,
         2 => {
             let k = (!shared & 7).trailing_zeros() as usize;
-            a.side(pb[k]) == Sign::Zero && folded_over(ta, tb)
+            a.side(pb[k]) == Sign::Zero && {
+                let (ta, tb) = full();
+                folded_over(ta, tb)
+            }
         }
         1 => {
             // `b`'s corner at the shared vertex `vb[k]` is `vb[k], vb[k + 1], vb[k + 2]`.
             let k = shared.trailing_zeros() as usize;
             let (s1, s2) = (a.side(pb[(k + 1) % 3]), a.side(pb[(k + 2) % 3]));
             if s1 == s2 {
-                return s1 == Sign::Zero && wedges_overlap(ta, tb);
+                return s1 == Sign::Zero && {
+                    let (ta, tb) = full();
+                    wedges_overlap(ta, tb)
+                };
             }
             let j = usize::from(va[1] == vb[k]) + 2 * usize::from(va[2] == vb[k]);
             let (s1, s2) = (b.side(pa[(j + 1) % 3]), b.side(pa[(j + 2) % 3]));
-            !(s1 == s2 && s1 != Sign::Zero) && by_classification(ta, tb, 1)
+            !(s1 == s2 && s1 != Sign::Zero) && {
+                let (ta, tb) = full();
+                by_classification(ta, tb, 1)
+            }
         }
-        _ => !a.strictly_one_side(&pb) && !b.strictly_one_side(&pa) && by_classification(ta, tb, 0),
+        _ => {
+            !a.strictly_one_side(&pb) && !b.strictly_one_side(&pa) && {
+                let (ta, tb) = full();
+                by_classification(ta, tb, 0)
+            }
+        }
     }
 }
 
@@ -207,12 +225,13 @@ fn counts(a: &Prepared, b: &Prepared) -> bool {
 ///   the filter cannot decide, [`orient3d`] does.
 #[derive(Clone, Copy, Debug)]
 struct Prepared {
-    triangle: Triangle,
+    corners: [Point3; 3],
     /// CGAL's `m01`, `m02`, `m12` of the transposed matrix (see above).
     minors: [f64; 3],
     /// The error bound's constant times the maxima of the rows `q - p` and `r - p`; NaN when
     /// they are out of the filter's range, which fails every comparison.
     scale: f64,
+    vertices: [u32; 3],
     /// The axis whose coordinate all three corners share, if any.
     aligned: Option<u8>,
 }
@@ -225,8 +244,8 @@ const O3D_STATIC_LOW: f64 = 1e-97;
 const O3D_STATIC_HIGH: f64 = 1e102;
 
 impl Prepared {
-    /// `t` with its plane.
-    fn new(triangle: Triangle) -> Prepared {
+    /// The plane of `triangle`.
+    fn new(triangle: &Triangle) -> Prepared {
         let [p, q, r] = triangle.positions();
         let aligned = (0..3u8).find(|&k| {
             let k = usize::from(k);
@@ -246,7 +265,8 @@ impl Prepared {
             f64::NAN
         };
         Prepared {
-            triangle,
+            corners: [p, q, r],
+            vertices: triangle.vertices(),
             minors,
             scale,
             aligned,
@@ -257,7 +277,7 @@ impl Prepared {
     /// fixed factor.
     #[inline]
     fn side(&self, s: Point3) -> Sign {
-        let [p, q, r] = self.triangle.positions();
+        let [p, q, r] = self.corners;
         if let Some(axis) = self.aligned {
             // The exact sign of `level - s[axis]`; equal to `orient3d` times the sign of the
             // triangle's turn in the plane (expand the determinant along column `axis`).
@@ -390,9 +410,9 @@ mod tests {
             else {
                 return Ok(());
             };
-            let (pa, pb) = (Prepared::new(ta), Prepared::new(tb));
-            prop_assert_eq!(counts(&pa, &pb), by_classification(&ta, &tb, share));
-            prop_assert_eq!(counts(&pb, &pa), by_classification(&tb, &ta, share));
+            let (pa, pb) = (Prepared::new(&ta), Prepared::new(&tb));
+            prop_assert_eq!(counts(&pa, &pb, || (&ta, &tb)), by_classification(&ta, &tb, share));
+            prop_assert_eq!(counts(&pb, &pa, || (&tb, &ta)), by_classification(&tb, &ta, share));
         }
     }
 
@@ -401,18 +421,31 @@ mod tests {
         let Some(t) = Triangle::new(0, [0, 1, 2], corners) else {
             return Ok(());
         };
-        let plane = Prepared::new(t);
+        let plane = Prepared::new(&t);
         let mut factor = None;
         for &s in points {
-            let (side, exact) = (plane.side(s), orient3d(corners[0], corners[1], corners[2], s));
-            prop_assert_eq!(side == Sign::Zero, exact == Sign::Zero, "{:?} {:?}", corners, s);
+            let (side, exact) = (
+                plane.side(s),
+                orient3d(corners[0], corners[1], corners[2], s),
+            );
+            prop_assert_eq!(
+                side == Sign::Zero,
+                exact == Sign::Zero,
+                "{:?} {:?}",
+                corners,
+                s
+            );
             if exact != Sign::Zero {
                 let f = *factor.get_or_insert(side.times(exact));
                 prop_assert_eq!(side.times(exact), f, "{:?} {:?}", corners, s);
             }
         }
         if plane.aligned.is_none() {
-            prop_assert_ne!(factor, Some(Sign::Negative), "filtered sides are orient3d's");
+            prop_assert_ne!(
+                factor,
+                Some(Sign::Negative),
+                "filtered sides are orient3d's"
+            );
         }
         Ok(())
     }
