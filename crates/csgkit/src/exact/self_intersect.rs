@@ -39,6 +39,8 @@
 //! without self-intersection the candidates are mostly neighbours (a few per triangle).
 //! The output is the same for every thread count.
 
+use std::cmp::Ordering;
+
 use rayon::prelude::*;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
@@ -75,17 +77,14 @@ impl SelfIntersections {
 /// The exact self-intersections of `mesh` (semantics and algorithm in the
 /// [module docs](self)).
 pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
-    let triangles = triangles(mesh);
-    let boxes: Vec<Aabb> = triangles
-        .iter()
-        .map(|(_, t)| Aabb::from_points(t.positions().iter()))
-        .collect();
-    let candidates = Bvh::build(&boxes).self_overlapping_pairs();
-    let mut pairs: Vec<(FaceId, FaceId)> = candidates
-        .par_iter()
-        .filter_map(|&(i, j)| {
-            let ((fa, a), (fb, b)) = (&triangles[i as usize], &triangles[j as usize]);
-            (fa != fb && counts(a, b)).then(|| (*fa.min(fb), *fa.max(fb)))
+    let (faces, triangles): (Vec<FaceId>, Vec<Triangle>) = triangles(mesh).into_iter().unzip();
+    // Fan triangles of one face never count against each other: the pair is dropped here
+    // rather than in `intersecting_pairs`, which knows nothing of faces.
+    let mut pairs: Vec<(FaceId, FaceId)> = intersecting_pairs(&triangles)
+        .into_iter()
+        .filter_map(|(i, j)| {
+            let (f, g) = (faces[i as usize], faces[j as usize]);
+            (f != g).then(|| (f.min(g), f.max(g)))
         })
         .collect();
     pairs.par_sort_unstable();
@@ -94,6 +93,33 @@ pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
     faces.par_sort_unstable();
     faces.dedup();
     SelfIntersections { pairs, faces }
+}
+
+/// Pairs `(i, j)`, `i < j`, of triangles (indices into `triangles`) that intersect other than
+/// along what they share: exactly the pairs [`self_intersections`] counts (the rules of the
+/// [module docs](self), without the face grouping of polygons). Sorted, deduplicated.
+///
+/// The exact boolean engine runs it on each operand's prepared triangles, so it takes them
+/// as they are: vertex ids must be welded (equal positions have equal ids), because the
+/// shared vertices of a pair are found by id; [`Triangle::id`] is not used.
+pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
+    let boxes: Vec<Aabb> = triangles
+        .par_iter()
+        .map(|t| Aabb::from_points(t.positions().iter()))
+        .collect();
+    // Triangles in the tree's order, so that the walk reads them almost sequentially.
+    let (bvh, order) = Bvh::build(&boxes).into_tree_order();
+    let sorted: Vec<Prepared> = (order.par_iter())
+        .map(|&i| Prepared::new(&triangles[i as usize]))
+        .collect();
+    let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
+        let (i, j) = (order[x as usize], order[y as usize]);
+        let full = || (&triangles[i as usize], &triangles[j as usize]);
+        counts(&sorted[x as usize], &sorted[y as usize], full).then(|| (i.min(j), i.max(j)))
+    });
+    pairs.par_sort_unstable();
+    pairs.dedup();
+    pairs
 }
 
 /// The non-degenerate fan triangles of `mesh` with welded vertex ids, tagged with their face.
@@ -118,30 +144,186 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
 
 /// Whether a pair of triangles of one mesh counts as intersecting (libigl's rules).
 ///
-/// Neighbours are most candidate pairs, so they are decided by exact tests on explicit points
-/// without building intersection points: a pair sharing an edge counts only when coplanar and
-/// folded over ([`folded_over`]); coplanar triangles sharing one vertex count when their
-/// corners there overlap ([`wedges_overlap`]); non-coplanar ones meet only at the vertex when
-/// the other two vertices of either triangle lie strictly on one side of the other's plane.
+/// Most candidate pairs are decided by the sides of one triangle's vertices against the
+/// other's plane ([`Prepared::side`]), without building intersection points:
+/// - sharing an edge: they count only when coplanar (one side test) and folded over
+///   ([`folded_over`]);
+/// - sharing one vertex: the other two vertices of either triangle strictly on one side of
+///   the other's plane leave the shared vertex as the only common point; both on the plane:
+///   coplanar, decided by [`wedges_overlap`];
+/// - sharing nothing: all three vertices of either triangle strictly on one side of the
+///   other's plane: disjoint.
+///
 /// The rest goes to [`intersect_triangles`].
-fn counts(a: &Triangle, b: &Triangle) -> bool {
-    let (va, vb) = (a.vertices(), b.vertices());
-    let shared = va.iter().filter(|v| vb.contains(v)).count();
-    if shared == 0 {
-        return by_classification(a, b, shared);
-    }
-    let b_off = unshared_signs(b, &va, &a.positions());
-    let coplanar = b_off.iter().flatten().all(|&s| s == Sign::Zero);
-    match shared {
-        2 => return coplanar && folded_over(a, b),
-        3 => return false,
-        1 if coplanar => return wedges_overlap(a, b),
-        1 if one_sided(&b_off) || one_sided(&unshared_signs(a, &vb, &b.positions())) => {
-            return false;
+///
+/// `full` gives the two triangles, which only the rare cases read.
+fn counts<'t>(
+    a: &Prepared,
+    b: &Prepared,
+    full: impl FnOnce() -> (&'t Triangle, &'t Triangle),
+) -> bool {
+    let (va, vb) = (a.vertices, b.vertices);
+    // Bit i: vertex i of `b` is a vertex of `a`. Without branches: along a walk the sharing
+    // pattern of consecutive pairs is unpredictable.
+    let in_a = |v: u32| u8::from((v == va[0]) | (v == va[1]) | (v == va[2]));
+    let shared = in_a(vb[0]) | in_a(vb[1]) << 1 | in_a(vb[2]) << 2;
+    let (pa, pb) = (a.corners, b.corners);
+    match shared.count_ones() {
+        3 => false,
+        2 => {
+            let k = (!shared & 7).trailing_zeros() as usize;
+            a.side(pb[k]) == Sign::Zero && {
+                let (ta, tb) = full();
+                folded_over(ta, tb)
+            }
         }
-        _ => {}
+        1 => {
+            // `b`'s corner at the shared vertex `vb[k]` is `vb[k], vb[k + 1], vb[k + 2]`.
+            let k = shared.trailing_zeros() as usize;
+            let (s1, s2) = (a.side(pb[(k + 1) % 3]), a.side(pb[(k + 2) % 3]));
+            if s1 == s2 {
+                return s1 == Sign::Zero && {
+                    let (ta, tb) = full();
+                    wedges_overlap(ta, tb)
+                };
+            }
+            let j = usize::from(va[1] == vb[k]) + 2 * usize::from(va[2] == vb[k]);
+            let (s1, s2) = (b.side(pa[(j + 1) % 3]), b.side(pa[(j + 2) % 3]));
+            !(s1 == s2 && s1 != Sign::Zero) && {
+                let (ta, tb) = full();
+                by_classification(ta, tb, 1)
+            }
+        }
+        _ => {
+            !a.strictly_one_side(&pb) && !b.strictly_one_side(&pa) && {
+                let (ta, tb) = full();
+                by_classification(ta, tb, 0)
+            }
+        }
     }
-    by_classification(a, b, shared)
+}
+
+/// A triangle `p, q, r` with its plane, prepared for side tests of points.
+///
+/// [`Prepared::side`] gives the sign of [`orient3d`]`(p, q, r, s)` up to a factor `±1` that
+/// depends on the plane only: the candidate tests compare sides against one plane and test
+/// them for zero, for which that factor does not matter. Exact, like [`orient3d`]; most
+/// tests are decided by a few multiplications:
+/// - **aligned**: the three vertices share a coordinate (a face of a CAD model along an axis
+///   plane). The plane is `x_k = p_k`, and the side of `s` is the comparison of `s_k` with
+///   `p_k`; exact, with no rounding at all. It also keeps coplanar points, common on such
+///   models, away from the slow exact stages [`orient3d`] needs for a zero.
+/// - **filtered**: CGAL's semi-static filter for `orient3d` (`Static_filters/Orientation_3.h`,
+///   error bound by Meyer & Pion's FPG, "A C++ static floating-point filter generator",
+///   2008): the determinant of the rows `q - p`, `r - p`, `s - p` evaluated in f64 is the
+///   true sign when its magnitude exceeds `5.1107127829973299e-15` times the product of the
+///   largest absolute entry of each row, provided those three maxima lie in `[1e-97, 1e102)`
+///   (no underflow or overflow). CGAL bounds the columns of its matrix; we evaluate the
+///   transposed matrix, whose columns are our rows, with the same formula (CGAL's
+///   `determinant`: 2 × 2 minors of its first two columns, then expansion along the third),
+///   so the minors involve only `q - p` and `r - p` and are computed once per plane. When
+///   the filter cannot decide, [`orient3d`] does.
+#[derive(Clone, Copy, Debug)]
+struct Prepared {
+    corners: [Point3; 3],
+    /// CGAL's `m01`, `m02`, `m12` of the transposed matrix (see above).
+    minors: [f64; 3],
+    /// The error bound's constant times the maxima of the rows `q - p` and `r - p`; NaN when
+    /// they are out of the filter's range, which fails every comparison.
+    scale: f64,
+    vertices: [u32; 3],
+    /// The axis whose coordinate all three corners share, if any.
+    aligned: Option<u8>,
+}
+
+/// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]).
+const O3D_STATIC_BOUND: f64 = 5.1107127829973299e-15;
+/// Row maxima below this may underflow in the filter: `cbrt(f64::MIN_POSITIVE / eps)`.
+const O3D_STATIC_LOW: f64 = 1e-97;
+/// Row maxima at or above this may overflow in the filter.
+const O3D_STATIC_HIGH: f64 = 1e102;
+
+impl Prepared {
+    /// The plane of `triangle`.
+    fn new(triangle: &Triangle) -> Prepared {
+        let [p, q, r] = triangle.positions();
+        let aligned = (0..3u8).find(|&k| {
+            let k = usize::from(k);
+            p[k] == q[k] && p[k] == r[k]
+        });
+        let (pq, pr) = (sub(q, p), sub(r, p));
+        let minors = [
+            pq[0] * pr[1] - pq[1] * pr[0],
+            pq[0] * pr[2] - pq[2] * pr[0],
+            pq[1] * pr[2] - pq[2] * pr[1],
+        ];
+        let (mq, mr) = (max_abs(pq), max_abs(pr));
+        // Same operation order as CGAL's `eps = c * maxx * maxy * maxz`.
+        let scale = if in_filter_range(mq) && in_filter_range(mr) {
+            O3D_STATIC_BOUND * mq * mr
+        } else {
+            f64::NAN
+        };
+        Prepared {
+            corners: [p, q, r],
+            vertices: triangle.vertices(),
+            minors,
+            scale,
+            aligned,
+        }
+    }
+
+    /// The side of `s`: [`orient3d`] of the triangle's corners and `s`, up to the plane's
+    /// fixed factor.
+    #[inline]
+    fn side(&self, s: Point3) -> Sign {
+        let [p, q, r] = self.corners;
+        if let Some(axis) = self.aligned {
+            // The exact sign of `level - s[axis]`; equal to `orient3d` times the sign of the
+            // triangle's turn in the plane (expand the determinant along column `axis`).
+            let (axis, level) = (usize::from(axis), p[usize::from(axis)]);
+            return match s[axis].partial_cmp(&level) {
+                Some(Ordering::Less) => Sign::Positive,
+                Some(Ordering::Greater) => Sign::Negative,
+                _ => Sign::Zero,
+            };
+        }
+        let [m01, m02, m12] = self.minors;
+        let ps = sub(s, p);
+        let det = m01 * ps[2] - m02 * ps[1] + m12 * ps[0];
+        let ms = max_abs(ps);
+        let eps = self.scale * ms;
+        // A NaN `scale` fails both comparisons.
+        if in_filter_range(ms) {
+            // `orient3d` is positive below the plane: the opposite of this determinant's sign.
+            if det > eps {
+                return Sign::Negative;
+            }
+            if det < -eps {
+                return Sign::Positive;
+            }
+        }
+        orient3d(p, q, r, s)
+    }
+
+    /// Whether the three points are strictly on one side of the plane: stops at the first
+    /// point that is not on the side of the first.
+    fn strictly_one_side(&self, points: &[Point3; 3]) -> bool {
+        let first = self.side(points[0]);
+        first != Sign::Zero && self.side(points[1]) == first && self.side(points[2]) == first
+    }
+}
+
+fn in_filter_range(m: f64) -> bool {
+    (O3D_STATIC_LOW..O3D_STATIC_HIGH).contains(&m)
+}
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn max_abs(v: Point3) -> f64 {
+    v[0].abs().max(v[1].abs()).max(v[2].abs())
 }
 
 /// libigl's rules applied to the full classification (for pairs sharing no edge).
@@ -157,21 +339,6 @@ fn by_classification(a: &Triangle, b: &Triangle, shared: usize) -> bool {
         2 => matches!(found, Intersection::CoplanarOverlap(_)),
         _ => false,
     }
-}
-
-/// [`orient3d`] against `plane` of each vertex of `t` that is not in `shared_with`.
-fn unshared_signs(t: &Triangle, shared_with: &[u32; 3], plane: &[Point3; 3]) -> [Option<Sign>; 3] {
-    let (v, p) = (t.vertices(), t.positions());
-    [0, 1, 2].map(|i| {
-        (!shared_with.contains(&v[i])).then(|| orient3d(plane[0], plane[1], plane[2], p[i]))
-    })
-}
-
-/// True when the given signs are all equal and nonzero.
-fn one_sided(signs: &[Option<Sign>; 3]) -> bool {
-    let mut s = signs.iter().flatten();
-    s.next()
-        .is_some_and(|&first| first != Sign::Zero && s.all(|&x| x == first))
 }
 
 /// `a` and `b` share one vertex `v` and are coplanar: whether they meet beyond `v`. Both are
@@ -243,8 +410,130 @@ mod tests {
             else {
                 return Ok(());
             };
-            prop_assert_eq!(counts(&ta, &tb), by_classification(&ta, &tb, share));
-            prop_assert_eq!(counts(&tb, &ta), by_classification(&tb, &ta, share));
+            let (pa, pb) = (Prepared::new(&ta), Prepared::new(&tb));
+            prop_assert_eq!(counts(&pa, &pb, || (&ta, &tb)), by_classification(&ta, &tb, share));
+            prop_assert_eq!(counts(&pb, &pa, || (&tb, &ta)), by_classification(&tb, &ta, share));
+        }
+    }
+
+    /// Asserts that `Prepared::side` is `orient3d` times one factor per plane.
+    fn check_sides(corners: [Point3; 3], points: &[Point3]) -> Result<(), TestCaseError> {
+        let Some(t) = Triangle::new(0, [0, 1, 2], corners) else {
+            return Ok(());
+        };
+        let plane = Prepared::new(&t);
+        let mut factor = None;
+        for &s in points {
+            let (side, exact) = (
+                plane.side(s),
+                orient3d(corners[0], corners[1], corners[2], s),
+            );
+            prop_assert_eq!(
+                side == Sign::Zero,
+                exact == Sign::Zero,
+                "{:?} {:?}",
+                corners,
+                s
+            );
+            if exact != Sign::Zero {
+                let f = *factor.get_or_insert(side.times(exact));
+                prop_assert_eq!(side.times(exact), f, "{:?} {:?}", corners, s);
+            }
+        }
+        if plane.aligned.is_none() {
+            prop_assert_ne!(
+                factor,
+                Some(Sign::Negative),
+                "filtered sides are orient3d's"
+            );
+        }
+        Ok(())
+    }
+
+    /// A point near the plane of `c`: `c[0] + u (c[1] - c[0]) + v (c[2] - c[0])` in f64,
+    /// nudged by `ulps` units in the last place, so that the filter often cannot decide.
+    fn near_plane(c: [Point3; 3], u: f64, v: f64, ulps: i64) -> Point3 {
+        std::array::from_fn(|k| {
+            let x = c[0][k] + u * (c[1][k] - c[0][k]) + v * (c[2][k] - c[0][k]);
+            f64::from_bits((x.to_bits() as i64 + ulps) as u64)
+        })
+    }
+
+    fn scaled_point(scale: f64) -> impl Strategy<Value = Point3> {
+        [-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64].prop_map(move |p| p.map(|x| x * scale))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// Grid points: aligned planes, coplanar points and exact zeros are common.
+        #[test]
+        fn plane_sides_on_a_grid(
+            c in [small_point(), small_point(), small_point()],
+            points in proptest::collection::vec(small_point(), 1..20),
+        ) {
+            check_sides(c, &points)?;
+        }
+
+        /// Points on and next to the plane at every scale, including scales outside the
+        /// filter's range (1e-100 and 1e110), where `orient3d` decides.
+        #[test]
+        fn plane_sides_near_the_plane(
+            scale in prop::sample::select(vec![1e-100, 1e-3, 1.0, 1e5, 1e110]),
+            c in [scaled_point(1.0), scaled_point(1.0), scaled_point(1.0)],
+            offset in scaled_point(1.0),
+            near in proptest::collection::vec((-2.0..2.0f64, -2.0..2.0f64, -3i64..=3), 1..20),
+        ) {
+            let c = c.map(|p| std::array::from_fn(|k| (p[k] + offset[k] * 100.0) * scale));
+            let points: Vec<Point3> = near.iter().map(|&(u, v, d)| near_plane(c, u, v, d)).collect();
+            check_sides(c, &points)?;
+        }
+    }
+
+    /// Triangles on a small grid with ids welded by position, so that neighbours, shared
+    /// edges, coplanar pairs and touching contacts are common.
+    fn welded_soup() -> impl Strategy<Value = Vec<Triangle>> {
+        proptest::collection::vec([small_point(), small_point(), small_point()], 0..40).prop_map(
+            |corners| {
+                let mut points: Vec<Point3> = Vec::new();
+                let mut id = |p: Point3| {
+                    let k = points.iter().position(|&q| q == p).unwrap_or_else(|| {
+                        points.push(p);
+                        points.len() - 1
+                    });
+                    k as u32
+                };
+                corners
+                    .into_iter()
+                    .filter_map(|pts| Triangle::new(0, pts.map(&mut id), pts))
+                    .collect()
+            },
+        )
+    }
+
+    /// Every pair of `triangles` decided by libigl's rules on the full classification.
+    fn brute_force_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
+        let mut pairs = Vec::new();
+        for (i, a) in triangles.iter().enumerate() {
+            for (j, b) in triangles.iter().enumerate().skip(i + 1) {
+                let shared = (a.vertices().iter())
+                    .filter(|v| b.vertices().contains(v))
+                    .count();
+                if by_classification(a, b, shared) {
+                    pairs.push((i as u32, j as u32));
+                }
+            }
+        }
+        pairs
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(500))]
+
+        /// The broad phase and the shortcuts lose no pair and add none.
+        #[test]
+        fn intersecting_pairs_match_brute_force(triangles in welded_soup()) {
+            prop_assert_eq!(intersecting_pairs(&triangles), brute_force_pairs(&triangles));
         }
     }
 

@@ -53,9 +53,17 @@ impl Aabb {
 
     /// True when the closed boxes share a point; touching counts.
     ///
-    /// Exact: only comparisons of stored coordinates.
+    /// Exact: only comparisons of stored coordinates. The six comparisons are combined with
+    /// `&`, not `&&`: the outcome of a query's box test is unpredictable, and one branch
+    /// mispredicted costs more than the comparisons a short circuit would skip.
+    #[inline]
     pub fn overlaps(&self, other: &Aabb) -> bool {
-        (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])
+        (self.min[0] <= other.max[0])
+            & (other.min[0] <= self.max[0])
+            & (self.min[1] <= other.max[1])
+            & (other.min[1] <= self.max[1])
+            & (self.min[2] <= other.max[2])
+            & (other.min[2] <= self.max[2])
     }
 
     /// True when the box holds no point.

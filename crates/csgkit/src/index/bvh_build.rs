@@ -99,6 +99,19 @@ impl Bvh {
         self.nodes[0]
     }
 
+    /// The same tree with each primitive renumbered by its position in the tree's (Morton)
+    /// order, and the old id of each position.
+    ///
+    /// Queries on the renumbered tree report positions. A caller that copies its per-primitive
+    /// data into that order then reads it almost sequentially, as the queries walk the tree,
+    /// instead of jumping through the whole array: on a million triangles the jumps cost more
+    /// than the exact tests of the self-intersection check.
+    pub fn into_tree_order(mut self) -> (Bvh, Vec<u32>) {
+        let positions = (0..self.ids.len() as u32).collect();
+        let ids = std::mem::replace(&mut self.ids, positions);
+        (self, ids)
+    }
+
     /// Range of sorted primitives in leaf node `node`.
     pub(super) fn leaf_primitives(&self, node: usize) -> std::ops::Range<usize> {
         let leaf = node + 1 - self.leaf_count;
@@ -240,6 +253,28 @@ mod tests {
             ids.sort_unstable();
             assert_eq!(ids, (0..n as u32).collect::<Vec<_>>());
         }
+    }
+
+    #[test]
+    fn tree_order_renumbers_query_results() {
+        let boxes: Vec<Aabb> = (0..500)
+            .map(|i| {
+                let p = [(i * 7 % 23) as f64, (i % 11) as f64, (i * 3 % 17) as f64];
+                Aabb::from_points(&[p, [p[0] + 1.5, p[1] + 1.0, p[2] + 2.0]])
+            })
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        let want = bvh.self_overlapping_pairs();
+        let (renumbered, ids) = bvh.clone().into_tree_order();
+        assert_eq!(ids, bvh.ids);
+        renumbered.check_invariants().unwrap();
+        let got: Vec<(u32, u32)> = (renumbered.self_overlapping_pairs().into_iter())
+            .map(|(x, y)| {
+                let (i, j) = (ids[x as usize], ids[y as usize]);
+                (i.min(j), i.max(j))
+            })
+            .collect();
+        assert_eq!(got, want);
     }
 
     #[test]

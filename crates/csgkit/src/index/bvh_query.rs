@@ -10,10 +10,17 @@
 //!
 //! The self query walks the one tree against itself and visits each unordered node pair
 //! once: a node against itself expands to (left, left), (right, right) and (left, right).
+//!
+//! The `_filter_map` forms call a function on each pair as the descent finds it and keep
+//! only what it returns, so a caller that rejects most candidates (the self-intersection
+//! check keeps a handful of tens of millions) never stores the candidate list; the exact test
+//! runs while the pair's boxes and triangles are still in cache. The order is the same as the
+//! pair lists' order.
 
 use rayon::prelude::*;
 
-use super::{Aabb, Bvh};
+use super::Bvh;
+use super::bvh_build::LEAF_SIZE;
 
 /// Frontier size: enough pairs to balance uneven subtrees over many threads. It is fixed,
 /// not scaled by the thread count, because the output order follows the frontier.
@@ -31,23 +38,43 @@ struct Walk<'a> {
 impl Bvh {
     /// Every pair `(id in self, id in other)` whose primitive boxes overlap (touching counts).
     pub fn overlapping_pairs(&self, other: &Bvh) -> Vec<(u32, u32)> {
-        Walk {
-            a: self,
-            b: other,
-            same_tree: false,
-        }
-        .run()
+        self.overlapping_filter_map(other, |i, j| Some((i, j)))
     }
 
     /// Every unordered pair of distinct primitives of this tree whose boxes overlap, each
     /// once, as `(smaller id, larger id)`.
     pub fn self_overlapping_pairs(&self) -> Vec<(u32, u32)> {
+        self.self_overlapping_filter_map(|i, j| Some((i, j)))
+    }
+
+    /// [`Bvh::overlapping_pairs`] passed through `f` as they are found: the `Some` values, in
+    /// the order of the pairs. `f` runs on several threads at once.
+    pub fn overlapping_filter_map<T: Send>(
+        &self,
+        other: &Bvh,
+        f: impl Fn(u32, u32) -> Option<T> + Sync,
+    ) -> Vec<T> {
+        Walk {
+            a: self,
+            b: other,
+            same_tree: false,
+        }
+        .run(f)
+    }
+
+    /// [`Bvh::self_overlapping_pairs`] passed through `f` as they are found (each unordered
+    /// pair once, smaller id first): the `Some` values, in the order of the pairs. `f` runs on
+    /// several threads at once.
+    pub fn self_overlapping_filter_map<T: Send>(
+        &self,
+        f: impl Fn(u32, u32) -> Option<T> + Sync,
+    ) -> Vec<T> {
         Walk {
             a: self,
             b: self,
             same_tree: true,
         }
-        .run()
+        .run(f)
     }
 }
 
@@ -87,20 +114,22 @@ impl Bvh {
 }
 
 impl Walk<'_> {
-    fn run(self) -> Vec<(u32, u32)> {
+    fn run<T: Send>(self, f: impl Fn(u32, u32) -> Option<T> + Sync) -> Vec<T> {
         if self.a.is_empty() || self.b.is_empty() {
             return Vec::new();
         }
         let frontier = self.frontier(FRONTIER_TARGET);
-        let parts: Vec<Vec<(u32, u32)>> = frontier
+        let parts: Vec<Vec<T>> = frontier
             .par_iter()
             .map(|&pair| {
                 let mut out = Vec::new();
-                self.descend(pair, &mut out);
+                self.descend(pair, &mut |i, j| out.extend(f(i, j)));
                 out
             })
             .collect();
-        parts.concat()
+        let mut all = Vec::with_capacity(parts.iter().map(Vec::len).sum());
+        parts.into_iter().for_each(|part| all.extend(part));
+        all
     }
 
     /// Node pairs whose subtrees together hold every overlapping primitive pair, expanded
@@ -130,14 +159,36 @@ impl Walk<'_> {
         frontier
     }
 
-    /// Depth-first descent below one node pair, appending overlapping primitive pairs.
-    fn descend(self, root: (usize, usize), out: &mut Vec<(u32, u32)>) {
-        let mut stack = vec![root];
-        while let Some(pair) = stack.pop() {
-            if self.is_leaf_pair(pair) {
-                self.leaf_pairs(pair, out);
-            } else {
-                self.children(pair, |child| stack.push(child));
+    /// Depth-first descent below one node pair, calling `visit` on overlapping primitive
+    /// pairs.
+    ///
+    /// Two inner nodes, the common case, are expanded inline (the same child pairs in the same
+    /// order as [`Walk::children`]): the walk spends about as long here as in the leaf tests.
+    fn descend(self, root: (usize, usize), visit: &mut impl FnMut(u32, u32)) {
+        let mut stack = Vec::with_capacity(64);
+        stack.push(root);
+        while let Some((a, b)) = stack.pop() {
+            match (self.a.is_leaf(a), self.b.is_leaf(b)) {
+                (true, true) => self.leaf_pairs((a, b), visit),
+                (false, false) => {
+                    let (na, nb) = (&self.a.nodes, &self.b.nodes);
+                    let (a0, a1, b0, b1) = (2 * a + 1, 2 * a + 2, 2 * b + 1, 2 * b + 2);
+                    let diagonal = self.same_tree && a == b;
+                    if na[a0].overlaps(&nb[b0]) {
+                        stack.push((a0, b0));
+                    }
+                    if na[a0].overlaps(&nb[b1]) {
+                        stack.push((a0, b1));
+                    }
+                    // On the diagonal of the self query, (right, left) repeats (left, right).
+                    if !diagonal && na[a1].overlaps(&nb[b0]) {
+                        stack.push((a1, b0));
+                    }
+                    if na[a1].overlaps(&nb[b1]) {
+                        stack.push((a1, b1));
+                    }
+                }
+                _ => self.children((a, b), |child| stack.push(child)),
             }
         }
     }
@@ -176,33 +227,59 @@ impl Walk<'_> {
         }
     }
 
-    /// Appends the overlapping primitive pairs of two leaves.
-    fn leaf_pairs(self, (a, b): (usize, usize), out: &mut Vec<(u32, u32)>) {
+    /// Calls `visit` on the overlapping primitive pairs of two leaves.
+    ///
+    /// All box tests of the two leaves run first, into a bit mask, and only the hits are
+    /// then visited: whether two neighbouring boxes overlap is a coin toss for the branch
+    /// predictor, so the tests are kept free of branches.
+    fn leaf_pairs(self, (a, b): (usize, usize), visit: &mut impl FnMut(u32, u32)) {
+        const _: () = assert!(LEAF_SIZE * LEAF_SIZE <= 64, "leaf pair masks are u64");
         let (ra, rb) = (self.a.leaf_primitives(a), self.b.leaf_primitives(b));
-        for i in ra {
-            let box_a: &Aabb = &self.a.boxes[i];
-            let rb = if self.same_tree && a == b {
-                i + 1..rb.end
+        let (boxes_a, boxes_b) = (&self.a.boxes[ra.clone()], &self.b.boxes[rb.clone()]);
+        let mut hits = 0u64;
+        for (x, box_a) in boxes_a.iter().enumerate() {
+            for (y, box_b) in boxes_b.iter().enumerate() {
+                hits |= u64::from(box_a.overlaps(box_b)) << (x * LEAF_SIZE + y);
+            }
+        }
+        let diagonal = self.same_tree && a == b;
+        if diagonal {
+            // A leaf against itself: only y > x (each unordered pair once, no self pairs).
+            hits &= UPPER_TRIANGLE;
+        }
+        while hits != 0 {
+            let bit = hits.trailing_zeros() as usize;
+            hits &= hits - 1;
+            let (i, j) = (ra.start + bit / LEAF_SIZE, rb.start + bit % LEAF_SIZE);
+            let (ia, ib) = (self.a.ids[i], self.b.ids[j]);
+            if self.same_tree && ib < ia {
+                visit(ib, ia);
             } else {
-                rb.clone()
-            };
-            for j in rb {
-                if box_a.overlaps(&self.b.boxes[j]) {
-                    let (ia, ib) = (self.a.ids[i], self.b.ids[j]);
-                    out.push(if self.same_tree && ib < ia {
-                        (ib, ia)
-                    } else {
-                        (ia, ib)
-                    });
-                }
+                visit(ia, ib);
             }
         }
     }
 }
 
+/// The bits `x * LEAF_SIZE + y` with `y > x`: the pairs of a leaf against itself.
+const UPPER_TRIANGLE: u64 = {
+    let mut mask = 0u64;
+    let mut x = 0;
+    while x < LEAF_SIZE {
+        let mut y = x + 1;
+        while y < LEAF_SIZE {
+            mask |= 1 << (x * LEAF_SIZE + y);
+            y += 1;
+        }
+        x += 1;
+    }
+    mask
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::index::Aabb;
     use proptest::prelude::*;
 
     fn brute_pairs(a: &[Aabb], b: &[Aabb]) -> Vec<(u32, u32)> {
@@ -249,6 +326,27 @@ mod tests {
             let want: Vec<_> = brute_pairs(&a, &a).into_iter().filter(|(i, j)| i < j).collect();
             prop_assert_eq!(got, want);
         }
+    }
+
+    #[test]
+    fn filter_map_keeps_the_order_of_the_pairs() {
+        let boxes: Vec<Aabb> = (0..3000)
+            .map(|i| {
+                let p = [(i % 13) as f64, (i % 19) as f64, (i % 31) as f64];
+                Aabb::from_points(&[p, [p[0] + 2.0, p[1] + 1.0, p[2] + 1.5]])
+            })
+            .collect();
+        let (bvh, half) = (Bvh::build(&boxes), Bvh::build(&boxes[..1500]));
+        let odd = |i: u32, j: u32| ((i + j) % 2 == 1).then_some((j, i));
+        let want: Vec<_> = (bvh.self_overlapping_pairs().into_iter())
+            .filter_map(|(i, j)| odd(i, j))
+            .collect();
+        assert!(!want.is_empty());
+        assert_eq!(bvh.self_overlapping_filter_map(odd), want);
+        let want: Vec<_> = (bvh.overlapping_pairs(&half).into_iter())
+            .filter_map(|(i, j)| odd(i, j))
+            .collect();
+        assert_eq!(bvh.overlapping_filter_map(&half, odd), want);
     }
 
     #[test]
