@@ -310,7 +310,7 @@ pub(crate) fn check_self_intersections(input: &Input) -> Result<(), BooleanError
     for k in 0..input.operand_count() {
         let range = input.operand_triangles(k);
         let triangles = &input.triangles[range.clone()];
-        let pairs = intersecting_pairs(triangles);
+        let pairs = super::self_intersect::intersecting_pairs(triangles);
         if !pairs.is_empty() {
             let face = |t: u32| input.face[range.start + t as usize];
             let mut faces: Vec<(FaceId, FaceId)> =
@@ -324,17 +324,4 @@ pub(crate) fn check_self_intersections(input: &Input) -> Result<(), BooleanError
         }
     }
     Ok(())
-}
-
-/// Stand-in until `self_intersect` takes prepared triangles: the check on a mesh of them.
-fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
-    let positions: Vec<Point3> = triangles.iter().flat_map(|t| t.positions()).collect();
-    let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
-        .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
-        .collect();
-    let mesh = Mesh::from_triangles(positions, &faces).expect("indices are in range");
-    let found = super::self_intersect::self_intersections(&mesh);
-    (found.pairs.iter())
-        .map(|(f, g)| (f.index() as u32, g.index() as u32))
-        .collect()
 }

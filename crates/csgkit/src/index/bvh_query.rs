@@ -19,8 +19,8 @@
 
 use rayon::prelude::*;
 
-use super::Bvh;
 use super::bvh_build::LEAF_SIZE;
+use super::{Aabb, Bvh};
 
 /// Frontier size: enough pairs to balance uneven subtrees over many threads. It is fixed,
 /// not scaled by the thread count, because the output order follows the frontier.
