@@ -237,7 +237,7 @@ struct Prepared {
 }
 
 /// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]).
-const O3D_STATIC_BOUND: f64 = 5.1107127829973299e-15;
+const O3D_STATIC_BOUND: f64 = 5.110_712_782_997_33e-15;
 /// Row maxima below this may underflow in the filter: `cbrt(f64::MIN_POSITIVE / eps)`.
 const O3D_STATIC_LOW: f64 = 1e-97;
 /// Row maxima at or above this may overflow in the filter.
