@@ -12,26 +12,28 @@
 //! # Algorithm
 //! Operands are closed, oriented outward and free of self-intersections, so the winding
 //! number of operand `k` is 1 inside it and 0 outside.
-//! 1. **Clean vertices.** An input vertex that lies on no other operand's surface appears in
-//!    no contact (a contact is found for every point two operands share). A patch with such a
-//!    vertex takes its labels from the exact winding numbers at that vertex: a ray along +x,
-//!    crossing counted by [`orient2d`] in the yz projection with a symbolic perturbation of
-//!    the ray's origin (`+ε` on y, `+ε²` on z), so rays through edges and vertices are
-//!    counted once and consistently, and [`orient3d`] for the side of the plane.
-//! 2. **Local tests.** Any other patch has an edge on the surface of each operand it
-//!    touches; the two faces of that operand at the edge form a wedge, and the patch's face
-//!    there lies inside the wedge, outside it, or on one of its faces (same or opposite
-//!    orientation), decided by [`orient3d_plane`] against the faces' input planes and, for a
-//!    coplanar face, [`orient2d_projected`] across the edge.
-//! 3. **Propagation.** With more than two operands, the labels for operands a patch does not
-//!    touch are copied from a patch of the same operand across an edge (the winding number
-//!    of an operand whose surface is not at that edge does not change across it).
+//! 1. **Local tests.** Where a patch has an edge on the surface of another operand, the two
+//!    faces of that operand at the edge form a wedge, and the patch's face there lies inside
+//!    the wedge, outside it, or on one of its faces (same or opposite orientation), decided
+//!    by [`orient3d_plane`] against the faces' input planes and, for a coplanar face,
+//!    [`orient2d_projected`] across the edge. With two operands this labels every patch that
+//!    touches the intersection curve.
+//! 2. **Rays.** For the operands no local test covered, the patch casts a ray from one of its
+//!    input vertices that lies on none of those operands' surfaces (such a vertex is in no
+//!    contact with them, since a contact is found for every point two operands share): a ray
+//!    along +x, crossings counted by [`orient2d`] in the yz projection with a symbolic
+//!    perturbation of the ray's origin (`+ε` on y, `+ε²` on z), so rays through edges and
+//!    vertices are counted once and consistently, and [`orient3d`] for the side of the plane.
+//! 3. **Propagation.** A patch with neither (only with more than two operands) copies the
+//!    labels for the operands it does not touch from a labelled patch of the same operand
+//!    across one of its edges (the winding number of an operand whose surface is not at that
+//!    edge does not change across it).
 //!
 //! # Complexity
 //! One union-find pass over all sub-triangles (through the ingest neighbour table for
 //! triangles that were not split; through sorted edge records near the intersection curves),
-//! one ray per clean patch (a BVH when there are many, a parallel scan when there are few),
-//! O(1) exact tests per other patch.
+//! O(1) exact tests per patch edge on another operand, and one ray per patch that needs one
+//! (a BVH when there are many, a parallel scan when there are few).
 
 use rayon::prelude::*;
 
