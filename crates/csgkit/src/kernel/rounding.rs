@@ -16,15 +16,21 @@ pub(crate) fn round_point(p: &Point) -> Point3 {
     if let Point::Explicit(x) = p {
         return *x;
     }
+    let ([x, y, z, w], e_low) = exact_hom(p);
+    [x, y, z].map(|n| quotient(n.value(), w.value(), e_low).0)
+}
+
+/// The homogeneous coordinates of `p` as exact integers, every input scaled by `2^-e_low`
+/// (the lowest bit of any input), and `e_low`. Coordinates are `X / W * 2^e_low`: `X` has one
+/// input degree more than `W`.
+fn exact_hom(p: &Point) -> ([Big; 4], i32) {
     let e_low = (p.coords().iter())
         .filter(|&&x| x != 0.0)
         .map(|&x| decompose(x).1)
         .min()
         .unwrap_or(0);
     let conv = |x: f64| Big::scaled(x, e_low);
-    let [x, y, z, w] = p.hom(&conv, &Big::one());
-    // Coordinates are X / W; the extra input degree of X over W leaves one factor 2^e_low.
-    [x, y, z].map(|n| round_quotient(n.value(), w.value(), e_low))
+    (p.hom(&conv, &Big::one()), e_low)
 }
 
 /// `p` as an explicit point when its exact coordinates are f64 numbers, else `p`.
@@ -45,13 +51,7 @@ pub fn simplify(p: Point) -> Point {
     if !p.approx().iter().all(|&x| x.is_finite() && short(x)) {
         return p;
     }
-    let e_low = (p.coords().iter())
-        .filter(|&&x| x != 0.0)
-        .map(|&x| decompose(x).1)
-        .min()
-        .unwrap_or(0);
-    let conv = |x: f64| Big::scaled(x, e_low);
-    let [x, y, z, w] = p.hom(&conv, &Big::one());
+    let ([x, y, z, w], e_low) = exact_hom(&p);
     let exact = |n: &Big| {
         let (value, exact) = quotient(n.value(), w.value(), e_low);
         exact.then_some(value)
@@ -62,13 +62,9 @@ pub fn simplify(p: Point) -> Point {
     }
 }
 
-/// `n / d * 2^e` rounded to the nearest f64, ties to even; `d` nonzero. The result is assumed
-/// to be a normal number or zero (intersection points lie among finite inputs).
-fn round_quotient(n: &BigInt, d: &BigInt, e: i32) -> f64 {
-    quotient(n, d, e).0
-}
-
-/// [`round_quotient`] and whether the rounding was exact.
+/// `n / d * 2^e` rounded to the nearest f64, ties to even, and whether that was exact; `d`
+/// nonzero. The result is assumed to be a normal number or zero (intersection points lie
+/// among finite inputs).
 fn quotient(n: &BigInt, d: &BigInt, e: i32) -> (f64, bool) {
     use num_bigint::Sign;
     if n.sign() == Sign::NoSign {
