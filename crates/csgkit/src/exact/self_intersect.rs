@@ -45,7 +45,7 @@ use rayon::prelude::*;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
-use crate::kernel::{Point, Point3, Sign, orient2d_projected, orient3d};
+use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d};
 use crate::mesh::{FaceId, Mesh, weld_positions};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).
@@ -188,11 +188,17 @@ fn counts<'t>(
                 };
             }
             let j = usize::from(va[1] == vb[k]) + 2 * usize::from(va[2] == vb[k]);
-            let (s1, s2) = (b.side(pa[(j + 1) % 3]), b.side(pa[(j + 2) % 3]));
-            !(s1 == s2 && s1 != Sign::Zero) && {
-                let (ta, tb) = full();
-                by_classification(ta, tb, 1)
+            let (t1, t2) = (b.side(pa[(j + 1) % 3]), b.side(pa[(j + 2) % 3]));
+            if t1 == t2 && t1 != Sign::Zero {
+                return false;
             }
+            if s1 == s2.flip() && t1 == t2.flip() {
+                // Each straddles the other's plane (no sign is zero, as they differ).
+                let corner = [pa[j], pa[(j + 1) % 3], pa[(j + 2) % 3]];
+                return chords_agree(corner, [pb[(k + 1) % 3], pb[(k + 2) % 3]], s1);
+            }
+            let (ta, tb) = full();
+            by_classification(ta, tb, 1)
         }
         _ => {
             !a.strictly_one_side(&pb) && !b.strictly_one_side(&pa) && {
@@ -203,16 +209,34 @@ fn counts<'t>(
     }
 }
 
+/// Two non-coplanar triangles share one vertex `v` and each has its other two vertices
+/// strictly on both sides of the other's plane: whether they meet beyond `v`.
+///
+/// `corner` is `v, a1, a2` (a rotation of the first triangle's corners, so of its
+/// orientation), `[b1, b2]` the other vertices of the second triangle, and `side_b1` is
+/// [`orient3d`]`(v, a1, a2, b1)`. The planes meet in a line `L` through `v`; each triangle
+/// meets `L` in a segment from `v` (to a point inside its edge opposite `v`), and the two
+/// meet beyond `v` exactly when those segments leave `v` in the same direction. The second
+/// one ends at `y`, where `b1 b2` crosses the first plane, and it points into the first
+/// triangle's corner at `v` (rather than away from it) exactly when `y` lies on the inner
+/// side of the line `v a1`: `orient3d(b1, b2, v, a1)` is that side times the side of `b1`,
+/// up to a fixed sign (expand `det(b2 - b1, v - b1, a1 - b1)` with `y` on `b1 b2`), and `y`
+/// is never on that line, because `a1` is off the second plane. One exact [`orient3d`] on
+/// input points, where the full classification would build and order intersection points.
+fn chords_agree(corner: [Point3; 3], [b1, b2]: [Point3; 2], side_b1: Sign) -> bool {
+    let [v, a1, _] = corner;
+    orient3d(b1, b2, v, a1) == side_b1.flip()
+}
+
 /// A triangle `p, q, r` with its plane, prepared for side tests of points.
 ///
-/// [`Prepared::side`] gives the sign of [`orient3d`]`(p, q, r, s)` up to a factor `±1` that
-/// depends on the plane only: the candidate tests compare sides against one plane and test
-/// them for zero, for which that factor does not matter. Exact, like [`orient3d`]; most
-/// tests are decided by a few multiplications:
+/// [`Prepared::side`] is [`orient3d`]`(p, q, r, s)`, exactly; most tests are decided by a few
+/// multiplications:
 /// - **aligned**: the three vertices share a coordinate (a face of a CAD model along an axis
 ///   plane). The plane is `x_k = p_k`, and the side of `s` is the comparison of `s_k` with
-///   `p_k`; exact, with no rounding at all. It also keeps coplanar points, common on such
-///   models, away from the slow exact stages [`orient3d`] needs for a zero.
+///   `p_k` times the triangle's turn in the plane (expand the determinant along column `k`),
+///   computed once; exact, with no rounding at all. It also keeps coplanar points, common on
+///   such models, away from the slow exact stages [`orient3d`] needs for a zero.
 /// - **filtered**: CGAL's semi-static filter for `orient3d` (`Static_filters/Orientation_3.h`,
 ///   error bound by Meyer & Pion's FPG, "A C++ static floating-point filter generator",
 ///   2008): the determinant of the rows `q - p`, `r - p`, `s - p` evaluated in f64 is the
@@ -232,8 +256,9 @@ struct Prepared {
     /// they are out of the filter's range, which fails every comparison.
     scale: f64,
     vertices: [u32; 3],
-    /// The axis whose coordinate all three corners share, if any.
-    aligned: Option<u8>,
+    /// The axis `k` whose coordinate all three corners share, if any, and the turn of the
+    /// corners projected along it ([`orient2d`] of coordinates `k + 1`, `k + 2`).
+    aligned: Option<(u8, Sign)>,
 }
 
 /// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]).
@@ -247,9 +272,10 @@ impl Prepared {
     /// The plane of `triangle`.
     fn new(triangle: &Triangle) -> Prepared {
         let [p, q, r] = triangle.positions();
-        let aligned = (0..3u8).find(|&k| {
-            let k = usize::from(k);
-            p[k] == q[k] && p[k] == r[k]
+        let aligned = (0..3).find(|&k| p[k] == q[k] && p[k] == r[k]).map(|k| {
+            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+            let turn = orient2d([p[u], p[v]], [q[u], q[v]], [r[u], r[v]]);
+            (k as u8, turn)
         });
         let (pq, pr) = (sub(q, p), sub(r, p));
         let minors = [
@@ -273,20 +299,19 @@ impl Prepared {
         }
     }
 
-    /// The side of `s`: [`orient3d`] of the triangle's corners and `s`, up to the plane's
-    /// fixed factor.
+    /// The side of `s`: [`orient3d`] of the triangle's corners and `s`.
     #[inline]
     fn side(&self, s: Point3) -> Sign {
         let [p, q, r] = self.corners;
-        if let Some(axis) = self.aligned {
-            // The exact sign of `level - s[axis]`; equal to `orient3d` times the sign of the
-            // triangle's turn in the plane (expand the determinant along column `axis`).
-            let (axis, level) = (usize::from(axis), p[usize::from(axis)]);
-            return match s[axis].partial_cmp(&level) {
+        if let Some((axis, turn)) = self.aligned {
+            // `orient3d` is `(level - s[axis])` times the turn.
+            let axis = usize::from(axis);
+            let below = match s[axis].partial_cmp(&p[axis]) {
                 Some(Ordering::Less) => Sign::Positive,
                 Some(Ordering::Greater) => Sign::Negative,
                 _ => Sign::Zero,
             };
+            return below.times(turn);
         }
         let [m01, m02, m12] = self.minors;
         let ps = sub(s, p);
@@ -416,36 +441,57 @@ mod tests {
         }
     }
 
-    /// Asserts that `Prepared::side` is `orient3d` times one factor per plane.
+    fn wide_point() -> impl Strategy<Value = Point3> {
+        [-6i32..=6, -6i32..=6, -6i32..=6].prop_map(|p| p.map(f64::from))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(4000))]
+
+        /// Pairs sharing one vertex, with the shared vertex at any corner of either triangle
+        /// and either orientation: the shortcuts (one side, coplanar wedges, straddling
+        /// chords) agree with the classification.
+        #[test]
+        fn vertex_neighbours_agree_with_classification(
+            v in wide_point(),
+            others in [wide_point(), wide_point(), wide_point(), wide_point()],
+            at in (0usize..3, 0usize..3),
+            flip in (any::<bool>(), any::<bool>()),
+        ) {
+            let [a1, a2, b1, b2] = others;
+            let place = |v: Point3, p: Point3, q: Point3, at: usize, flip: bool, ids: [u32; 3]| {
+                let (p, q, ip, iq) = if flip { (q, p, ids[2], ids[1]) } else { (p, q, ids[1], ids[2]) };
+                let mut pts = [v, p, q];
+                let mut vs = [ids[0], ip, iq];
+                pts.rotate_right(at);
+                vs.rotate_right(at);
+                Triangle::new(0, vs, pts)
+            };
+            let (Some(ta), Some(tb)) = (
+                place(v, a1, a2, at.0, flip.0, [0, 1, 2]),
+                place(v, b1, b2, at.1, flip.1, [0, 3, 4]),
+            ) else {
+                return Ok(());
+            };
+            // Distinct ids must mean distinct positions (welded input).
+            if [a1, a2].iter().any(|p| [b1, b2].contains(p)) {
+                return Ok(());
+            }
+            let (pa, pb) = (Prepared::new(&ta), Prepared::new(&tb));
+            prop_assert_eq!(counts(&pa, &pb, || (&ta, &tb)), by_classification(&ta, &tb, 1));
+            prop_assert_eq!(counts(&pb, &pa, || (&tb, &ta)), by_classification(&tb, &ta, 1));
+        }
+    }
+
+    /// Asserts that `Prepared::side` is `orient3d`.
     fn check_sides(corners: [Point3; 3], points: &[Point3]) -> Result<(), TestCaseError> {
         let Some(t) = Triangle::new(0, [0, 1, 2], corners) else {
             return Ok(());
         };
         let plane = Prepared::new(&t);
-        let mut factor = None;
         for &s in points {
-            let (side, exact) = (
-                plane.side(s),
-                orient3d(corners[0], corners[1], corners[2], s),
-            );
-            prop_assert_eq!(
-                side == Sign::Zero,
-                exact == Sign::Zero,
-                "{:?} {:?}",
-                corners,
-                s
-            );
-            if exact != Sign::Zero {
-                let f = *factor.get_or_insert(side.times(exact));
-                prop_assert_eq!(side.times(exact), f, "{:?} {:?}", corners, s);
-            }
-        }
-        if plane.aligned.is_none() {
-            prop_assert_ne!(
-                factor,
-                Some(Sign::Negative),
-                "filtered sides are orient3d's"
-            );
+            let exact = orient3d(corners[0], corners[1], corners[2], s);
+            prop_assert_eq!(plane.side(s), exact, "{:?} {:?}", corners, s);
         }
         Ok(())
     }
