@@ -313,34 +313,48 @@ impl Prepared {
             };
             return below.times(turn);
         }
+        match self.filter(s) {
+            (true, _) => Sign::Positive,
+            (_, true) => Sign::Negative,
+            _ => orient3d(p, q, r, s),
+        }
+    }
+
+    /// The semi-static filter's verdict on `s`, without branches: whether [`orient3d`] is
+    /// certainly positive (`s` below the plane), and whether certainly negative. Neither
+    /// when the filter cannot decide; never both.
+    #[inline]
+    fn filter(&self, s: Point3) -> (bool, bool) {
         let [m01, m02, m12] = self.minors;
-        let ps = sub(s, p);
+        let ps = sub(s, self.corners[0]);
         let det = m01 * ps[2] - m02 * ps[1] + m12 * ps[0];
         let ms = max_abs(ps);
         let eps = self.scale * ms;
-        // A NaN `scale` fails both comparisons.
-        if in_filter_range(ms) {
-            // `orient3d` is positive below the plane: the opposite of this determinant's sign.
-            if det > eps {
-                return Sign::Negative;
-            }
-            if det < -eps {
-                return Sign::Positive;
-            }
-        }
-        orient3d(p, q, r, s)
+        // A NaN `scale` fails both comparisons. `orient3d` is positive below the plane: the
+        // opposite of this determinant's sign.
+        let certain = in_filter_range(ms);
+        (certain & (det < -eps), certain & (det > eps))
     }
 
-    /// Whether the three points are strictly on one side of the plane: stops at the first
-    /// point that is not on the side of the first.
+    /// Whether the three points are strictly on one side of the plane. The filter judges
+    /// all three at once; the exact sides are needed only when it cannot tell.
     fn strictly_one_side(&self, points: &[Point3; 3]) -> bool {
+        if self.aligned.is_none() {
+            let [x, y, z] = points.map(|s| self.filter(s));
+            if (x.0 & y.0 & z.0) | (x.1 & y.1 & z.1) {
+                return true;
+            }
+            if (x.0 | y.0 | z.0) & (x.1 | y.1 | z.1) {
+                return false;
+            }
+        }
         let first = self.side(points[0]);
         first != Sign::Zero && self.side(points[1]) == first && self.side(points[2]) == first
     }
 }
 
 fn in_filter_range(m: f64) -> bool {
-    (O3D_STATIC_LOW..O3D_STATIC_HIGH).contains(&m)
+    (O3D_STATIC_LOW <= m) & (m < O3D_STATIC_HIGH)
 }
 
 fn sub(a: Point3, b: Point3) -> Point3 {
