@@ -103,12 +103,9 @@ pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
 /// as they are: vertex ids must be welded (equal positions have equal ids), because the
 /// shared vertices of a pair are found by id; [`Triangle::id`] is not used.
 pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
-    let boxes: Vec<Aabb> = triangles
-        .par_iter()
-        .map(|t| Aabb::from_points(t.positions().iter()))
-        .collect();
+    let box_of = |i: usize| Aabb::from_points(triangles[i].positions().iter());
+    let (bvh, order) = Bvh::build_with(triangles.len(), box_of).into_tree_order();
     // Triangles in the tree's order, so that the walk reads them almost sequentially.
-    let (bvh, order) = Bvh::build(&boxes).into_tree_order();
     let sorted: Vec<Prepared> = (order.par_iter())
         .map(|&i| Prepared::new(&triangles[i as usize]))
         .collect();
