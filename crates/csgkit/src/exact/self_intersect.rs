@@ -77,7 +77,7 @@ impl SelfIntersections {
 /// The exact self-intersections of `mesh` (semantics and algorithm in the
 /// [module docs](self)).
 pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
-    let (faces, triangles): (Vec<FaceId>, Vec<Triangle>) = triangles(mesh).into_iter().unzip();
+    let (faces, triangles) = triangles(mesh);
     // Fan triangles of one face never count against each other: the pair is dropped here
     // rather than in `intersecting_pairs`, which knows nothing of faces.
     let mut pairs: Vec<(FaceId, FaceId)> = intersecting_pairs(&triangles)
@@ -109,18 +109,21 @@ pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
     let sorted: Vec<Prepared> = (order.par_iter())
         .map(|&i| Prepared::new(&triangles[i as usize]))
         .collect();
+    let input = |x: u32| order[x as usize];
     let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
-        let (i, j) = (order[x as usize], order[y as usize]);
-        let full = || (&triangles[i as usize], &triangles[j as usize]);
-        counts(&sorted[x as usize], &sorted[y as usize], full).then(|| (i.min(j), i.max(j)))
+        let full = || (&triangles[input(x) as usize], &triangles[input(y) as usize]);
+        counts(&sorted[x as usize], &sorted[y as usize], full).then(|| {
+            let (i, j) = (input(x), input(y));
+            (i.min(j), i.max(j))
+        })
     });
     pairs.par_sort_unstable();
     pairs.dedup();
     pairs
 }
 
-/// The non-degenerate fan triangles of `mesh` with welded vertex ids, tagged with their face.
-fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
+/// The non-degenerate fan triangles of `mesh` with welded vertex ids, and the face of each.
+fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>) {
     let positions = mesh.positions();
     // Each vertex becomes the first vertex at its position (`-0.0` equals `0.0`), so the
     // triangles keep input vertex ids and exactly equal positions share one.
@@ -128,15 +131,17 @@ fn triangles(mesh: &Mesh) -> Vec<(FaceId, Triangle)> {
     let weld: Vec<u32> = (welding.remap.iter())
         .map(|&w| welding.representatives[w as usize])
         .collect();
-    mesh.fan_triangles()
-        .filter_map(|(face, corners)| {
+    let fans: Vec<(FaceId, [u32; 3])> = mesh.fan_triangles().collect();
+    let (faces, mut triangles): (Vec<FaceId>, Vec<Triangle>) = (fans.par_iter())
+        .filter_map(|&(face, corners)| {
             let ids = corners.map(|v| weld[v as usize]);
             let pts = ids.map(|v| positions[v as usize]);
             Triangle::new(0, ids, pts).map(|t| (face, t))
         })
-        .enumerate()
-        .map(|(k, (face, t))| (face, t.with_id(k as u32)))
-        .collect()
+        .unzip();
+    // A triangle's id is its index (only intersection keys read it).
+    (triangles.par_iter_mut().enumerate()).for_each(|(k, t)| *t = t.with_id(k as u32));
+    (faces, triangles)
 }
 
 /// Whether a pair of triangles of one mesh counts as intersecting (libigl's rules).
