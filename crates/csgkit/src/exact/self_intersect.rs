@@ -625,7 +625,10 @@ mod tests {
 
     #[test]
     fn filter_bound_is_cgals() {
-        assert_eq!(O3D_STATIC_BOUND, "5.1107127829973299e-15".parse::<f64>().unwrap());
+        assert_eq!(
+            O3D_STATIC_BOUND,
+            "5.1107127829973299e-15".parse::<f64>().unwrap()
+        );
     }
 
     #[test]
