@@ -286,9 +286,8 @@ struct Prepared {
     aligned: Option<(u8, Sign)>,
 }
 
-/// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]). CGAL
-/// writes it `5.1107127829973299e-15`; this is the same f64, shortest form.
-const O3D_STATIC_BOUND: f64 = 5.11071278299733e-15;
+/// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]).
+const O3D_STATIC_BOUND: f64 = 5.110_712_782_997_33e-15;
 /// Row maxima below this may underflow in the filter: `cbrt(f64::MIN_POSITIVE / eps)`.
 const O3D_STATIC_LOW: f64 = 1e-97;
 /// Row maxima at or above this may overflow in the filter.
@@ -623,6 +622,8 @@ mod tests {
         }
     }
 
+    /// CGAL writes the bound `5.1107127829973299e-15`; the constant is the same f64 in its
+    /// shortest form.
     #[test]
     fn filter_bound_is_cgals() {
         assert_eq!(
