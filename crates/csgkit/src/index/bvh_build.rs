@@ -48,7 +48,19 @@ impl Bvh {
     /// # Panics
     /// If there are more than `u32::MAX` boxes (meshes never have that many faces).
     pub fn build(boxes: &[Aabb]) -> Bvh {
-        Self::build_where(boxes, |_| true)
+        Self::build_where(boxes.len(), |i| boxes[i], |_| true)
+    }
+
+    /// Builds a tree over the boxes `box_of(0) .. box_of(len - 1)`; a primitive's id is its
+    /// index. The same tree as [`Bvh::build`] on the collected boxes, without the caller
+    /// storing them: `box_of` is called a few times per primitive, so it should be cheap
+    /// (the box of a triangle from its corners). On a million triangles the list of boxes
+    /// would be 48 MB that are written once and read twice.
+    ///
+    /// # Panics
+    /// If `len` exceeds `u32::MAX`.
+    pub fn build_with(len: usize, box_of: impl Fn(usize) -> Aabb + Sync) -> Bvh {
+        Self::build_where(len, box_of, |_| true)
     }
 
     /// Builds a tree over the boxes that overlap `region`, keeping their indices in `boxes`
@@ -58,20 +70,24 @@ impl Bvh {
     /// # Panics
     /// If there are more than `u32::MAX` boxes.
     pub fn build_in(boxes: &[Aabb], region: &Aabb) -> Bvh {
-        Self::build_where(boxes, |b| b.overlaps(region))
+        Self::build_where(boxes.len(), |i| boxes[i], |b| b.overlaps(region))
     }
 
-    fn build_where(boxes: &[Aabb], keep: impl Fn(&Aabb) -> bool + Sync) -> Bvh {
+    fn build_where(
+        len: usize,
+        box_of: impl Fn(usize) -> Aabb + Sync,
+        keep: impl Fn(&Aabb) -> bool + Sync,
+    ) -> Bvh {
         assert!(
-            u32::try_from(boxes.len()).is_ok(),
+            u32::try_from(len).is_ok(),
             "a BVH holds at most u32::MAX primitives"
         );
-        let ids: Vec<u32> = (0..boxes.len() as u32)
+        let ids: Vec<u32> = (0..len as u32)
             .into_par_iter()
-            .filter(|&i| keep(&boxes[i as usize]))
+            .filter(|&i| keep(&box_of(i as usize)))
             .collect();
-        let ids = morton_order(boxes, ids);
-        let sorted: Vec<Aabb> = ids.par_iter().map(|&i| boxes[i as usize]).collect();
+        let ids = morton_order(&box_of, ids);
+        let sorted: Vec<Aabb> = ids.par_iter().map(|&i| box_of(i as usize)).collect();
         let leaf_count = sorted.len().div_ceil(LEAF_SIZE).max(1).next_power_of_two();
         let nodes = fill_nodes(&sorted, leaf_count);
         let bvh = Bvh {
@@ -154,14 +170,14 @@ impl Bvh {
 }
 
 /// Sorts `ids` by the Morton code of their box centres, ties broken by id.
-fn morton_order(boxes: &[Aabb], mut ids: Vec<u32>) -> Vec<u32> {
+fn morton_order(box_of: &(impl Fn(usize) -> Aabb + Sync), mut ids: Vec<u32>) -> Vec<u32> {
     let centres = ids
-        .iter()
-        .map(|&i| boxes[i as usize].centre())
-        .fold(Aabb::EMPTY, |b, c| b.union_point(&c));
+        .par_iter()
+        .map(|&i| Aabb::EMPTY.union_point(&box_of(i as usize).centre()))
+        .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
     let mut keyed: Vec<(u64, u32)> = ids
         .par_iter()
-        .map(|&i| (morton_code(&boxes[i as usize].centre(), &centres), i))
+        .map(|&i| (morton_code(&box_of(i as usize).centre(), &centres), i))
         .collect();
     keyed.par_sort_unstable();
     ids.clear();
@@ -253,6 +269,19 @@ mod tests {
             ids.sort_unstable();
             assert_eq!(ids, (0..n as u32).collect::<Vec<_>>());
         }
+    }
+
+    #[test]
+    fn build_with_builds_the_same_tree() {
+        let boxes: Vec<Aabb> = (0..300)
+            .map(|i| {
+                let p = [(i * 5 % 19) as f64, (i % 7) as f64, (i * 3 % 13) as f64];
+                Aabb::from_points(&[p, [p[0] + 1.0, p[1] + 2.5, p[2] + 0.5]])
+            })
+            .collect();
+        let (built, with) = (Bvh::build(&boxes), Bvh::build_with(300, |i| boxes[i]));
+        assert_eq!((&built.ids, &built.boxes), (&with.ids, &with.boxes));
+        assert_eq!(built.nodes, with.nodes);
     }
 
     #[test]
