@@ -4,8 +4,9 @@
 //! Each input is timed three times after loading (`SELFINT_RUNS` sets another count; with 0
 //! the example only loads, so `perf stat` of a run minus one of a load gives the check's
 //! counts); the best run is printed with the counts.
-//! Next to wall time it prints the process CPU time of the fastest run (Linux only, from
-//! `/proc/self/stat`), which a machine busy with other work inflates far less than wall time.
+//! Next to the best wall time it prints the smallest process CPU time of the runs (Linux
+//! only, from `/proc/self/stat`), which a machine busy with other work inflates far less than
+//! wall time.
 
 use std::time::Instant;
 

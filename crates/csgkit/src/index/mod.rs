@@ -16,9 +16,13 @@
 //!   point still reach the exact test. Box coordinates are copied from input coordinates,
 //!   never computed, so the overlap test is exact.
 //! - [`Bvh`] (`bvh_build.rs`): primitives sorted by the Morton code of their box centre, then
-//!   a balanced binary tree over that order.
+//!   a balanced binary tree over that order; [`Bvh::build_with`] takes the boxes from a
+//!   function instead of a list, and [`Bvh::into_tree_order`] renumbers the primitives in
+//!   tree order, so a caller can copy its data into the order the queries read it.
 //! - Queries (`bvh_query.rs`): [`Bvh::overlapping_pairs`] between two trees and
-//!   [`Bvh::self_overlapping_pairs`] within one, both parallel and deterministic.
+//!   [`Bvh::self_overlapping_pairs`] within one, both parallel and deterministic; their
+//!   `_filter_map` forms decide each pair as the walk finds it and keep only what the caller
+//!   returns, without storing the candidates.
 
 mod aabb;
 mod bvh_build;
