@@ -101,7 +101,7 @@ mod rounding;
 #[cfg(test)]
 pub(crate) mod oracle;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 pub use implicit::{Lpi, Point, Point3, Tpi};
 pub use orient::{orient2d, orient3d};

@@ -113,58 +113,37 @@ mod tests {
     use crate::kernel::oracle;
     use num_traits::Signed;
 
+    /// The segment (0,0,0)-(4,2,6) meets the plane z = 3 at (2, 1, 3).
+    fn on_grid() -> Point {
+        let plane = [[0.0, 0.0, 3.0], [1.0, 0.0, 3.0], [0.0, 1.0, 3.0]];
+        Point::lpi([0.0; 3], [4.0, 2.0, 6.0], plane[0], plane[1], plane[2])
+            .expect("the segment crosses the plane")
+    }
+
+    /// The segment (0,0,0)-(3,1,0) meets the plane x = 1 at (1, 1/3, 0).
+    fn a_third() -> Point {
+        let plane = [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 0.0, 1.0]];
+        Point::lpi([0.0; 3], [3.0, 1.0, 0.0], plane[0], plane[1], plane[2])
+            .expect("the segment crosses the plane")
+    }
+
     #[test]
     fn representable_crossings_round_exactly() {
-        // The segment (0,0,0)-(4,2,6) meets the plane z = 3 at (2, 1, 3).
-        let p = Point::lpi(
-            [0.0, 0.0, 0.0],
-            [4.0, 2.0, 6.0],
-            [0.0, 0.0, 3.0],
-            [1.0, 0.0, 3.0],
-            [0.0, 1.0, 3.0],
-        )
-        .expect("the segment crosses the plane");
-        assert_eq!(round_point(&p), [2.0, 1.0, 3.0]);
+        assert_eq!(round_point(&on_grid()), [2.0, 1.0, 3.0]);
     }
 
     #[test]
     fn a_third_rounds_to_nearest() {
-        // The segment (0,0,0)-(3,3,3) meets the plane x = 1 at (1, 1, 1); (0,0,0)-(3,1,0)
-        // meets x = 1 at (1, 1/3, 0).
-        let p = Point::lpi(
-            [0.0, 0.0, 0.0],
-            [3.0, 1.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [1.0, 0.0, 1.0],
-        )
-        .expect("the segment crosses the plane");
-        assert_eq!(round_point(&p), [1.0, 1.0 / 3.0, 0.0]);
+        assert_eq!(round_point(&a_third()), [1.0, 1.0 / 3.0, 0.0]);
     }
 
     #[test]
     fn grid_points_become_explicit() {
-        let on_grid = Point::lpi(
-            [0.0, 0.0, 0.0],
-            [4.0, 2.0, 6.0],
-            [0.0, 0.0, 3.0],
-            [1.0, 0.0, 3.0],
-            [0.0, 1.0, 3.0],
-        )
-        .expect("the segment crosses the plane");
         assert!(matches!(
-            simplify(on_grid),
+            simplify(on_grid()),
             Point::Explicit([2.0, 1.0, 3.0])
         ));
-        let a_third = Point::lpi(
-            [0.0, 0.0, 0.0],
-            [3.0, 1.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [1.0, 0.0, 1.0],
-        )
-        .expect("the segment crosses the plane");
-        assert!(!simplify(a_third).is_explicit());
+        assert!(!simplify(a_third()).is_explicit());
     }
 
     #[test]

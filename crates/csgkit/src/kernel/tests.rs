@@ -175,7 +175,9 @@ impl Builder<'_> {
     }
 }
 
-fn config(cases: u32, seed: u64) -> Config {
+/// A proptest configuration with a fixed seed and no persisted failures, so every run
+/// explores the same cases (shared with the split stage's tests).
+pub(crate) fn config(cases: u32, seed: u64) -> Config {
     Config {
         cases,
         rng_seed: RngSeed::Fixed(seed),

@@ -8,9 +8,9 @@
 //! distinct point used, merged points equal to their kept vertex, every segment a chain of
 //! output edges. Random inputs use fixed seeds.
 
+use crate::kernel::tests::config;
 use num_rational::Ratio;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
 
 use super::*;
 
@@ -313,15 +313,6 @@ fn bad_inputs() {
     );
     let line = Case::new([[0.0; 3], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]]);
     assert_eq!(line.check(&[]), Err(SplitError::DegenerateTriangle));
-}
-
-fn config(cases: u32, seed: u64) -> Config {
-    Config {
-        cases,
-        rng_seed: RngSeed::Fixed(seed),
-        failure_persistence: None,
-        ..Config::default()
-    }
 }
 
 /// Corners: multiples of `D` in a small box, not collinear.
