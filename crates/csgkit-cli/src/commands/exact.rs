@@ -19,7 +19,7 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 use csgkit::exact::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, Stage, boolean,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, Stage, WindingRule, boolean,
 };
 use csgkit::mesh::MeshReport;
 use csgkit::{Format, Mesh, WriteError, WriteOptions, write_mesh};
@@ -53,6 +53,29 @@ pub struct ExactArgs {
     /// one does, the result may be wrong and no error says so.
     #[arg(long)]
     pub no_self_check: bool,
+    /// Which points are inside an operand whose faces cross each other or whose shells nest:
+    /// where its winding number is non-zero, or only where it is positive.
+    #[arg(long, value_enum, default_value_t = Winding::Nonzero)]
+    pub winding: Winding,
+}
+
+/// The values of `--winding`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Winding {
+    /// Inside where the winding number is not zero.
+    Nonzero,
+    /// Inside where the winding number is positive.
+    Positive,
+}
+
+impl Winding {
+    /// The library's rule.
+    pub fn rule(self) -> WindingRule {
+        match self {
+            Winding::Nonzero => WindingRule::NonZero,
+            Winding::Positive => WindingRule::Positive,
+        }
+    }
 }
 
 /// Runs `csgkit union`, `intersection` or `difference`.
@@ -104,6 +127,7 @@ fn compute(op: Operation, args: &ExactArgs, meshes: &[Mesh]) -> anyhow::Result<B
     };
     let options = BooleanOptions {
         check_self_intersections: !args.no_self_check,
+        winding: args.winding.rule(),
         split_non_manifold: args.manifold,
         progress: Some(&show),
     };
@@ -117,8 +141,7 @@ fn name_operand(err: BooleanError, inputs: &[PathBuf]) -> anyhow::Error {
     let operand = match err {
         BooleanError::NonFinite { operand, .. }
         | BooleanError::NotClosed { operand, .. }
-        | BooleanError::Inverted { operand, .. }
-        | BooleanError::SelfIntersecting { operand, .. } => inputs.get(operand),
+        | BooleanError::Inverted { operand, .. } => inputs.get(operand),
         _ => None,
     };
     match operand {
@@ -187,6 +210,8 @@ fn stats_json(
         "intersecting_pairs": s.intersecting_pairs,
         "split_triangles": s.split_triangles,
         "patches": s.patches,
+        "self_intersecting_pairs": s.self_intersecting_pairs,
+        "winding_classification": s.winding_classification,
         "output_triangles": s.output_triangles,
         "rounding_self_intersections": s.rounding_self_intersections,
         "output_vertices": result.mesh.vertex_count(),

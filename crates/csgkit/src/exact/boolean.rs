@@ -3,8 +3,9 @@
 
 use std::time::Instant;
 
-use crate::mesh::{FaceId, Mesh};
+use crate::mesh::Mesh;
 
+use super::winding::{self, WindingRule};
 use super::{assemble, broad, classify, ingest, select, subdivide};
 
 /// A boolean operation on solids.
@@ -43,7 +44,7 @@ impl Operation {
 pub enum Stage {
     /// Welding, triangulation of polygons, removal of degenerate triangles, closedness.
     Ingest,
-    /// The exact self-intersection check of every operand.
+    /// The exact self-intersection check of every operand, and the search for nested shells.
     Validate,
     /// Candidate triangle pairs from bounding boxes.
     Broad,
@@ -63,9 +64,15 @@ pub type ProgressFn<'a> = &'a (dyn Fn(Stage, usize, usize) -> bool + Sync);
 /// How [`boolean`] runs.
 #[derive(Clone, Copy)]
 pub struct BooleanOptions<'a> {
-    /// Check that no operand intersects itself (exact, costs about as much as the boolean
-    /// itself). On by default: classification assumes it.
+    /// Find the faces of each operand that cross each other (exact, costs about as much as
+    /// the boolean itself) and resolve them: such operands are intersected with themselves
+    /// in the same arrangement and classified by winding numbers. On by default; when off,
+    /// every operand is assumed free of self-intersections and a self-intersecting one gives
+    /// a wrong result without an error.
     pub check_self_intersections: bool,
+    /// Which winding numbers are inside an operand that is not a simple solid
+    /// (self-intersecting, or with nested shells). For simple solids both rules agree.
+    pub winding: WindingRule,
     /// Split the non-manifold edges and vertices of the result by duplicating vertices, so
     /// the output is a 2-manifold (`--manifold`).
     pub split_non_manifold: bool,
@@ -77,6 +84,7 @@ impl Default for BooleanOptions<'_> {
     fn default() -> Self {
         Self {
             check_self_intersections: true,
+            winding: WindingRule::NonZero,
             split_non_manifold: false,
             progress: None,
         }
@@ -98,6 +106,11 @@ pub struct BooleanStats {
     pub split_triangles: usize,
     /// Patches: pieces of one operand's surface bounded by intersection curves.
     pub patches: usize,
+    /// Triangle pairs within one operand that intersect, resolved in the arrangement.
+    pub self_intersecting_pairs: usize,
+    /// Whether patches were classified by winding numbers (operands that are not simple
+    /// solids) rather than by local tests.
+    pub winding_classification: bool,
     /// Triangles of the result.
     pub output_triangles: usize,
     /// Face pairs of the result that intersect because intersection points were rounded to
@@ -170,21 +183,6 @@ pub enum BooleanError {
         /// Its signed volume.
         volume: f64,
     },
-    /// Faces of the operand intersect each other.
-    ///
-    /// *How to fix*: resolve the self-intersections; `csgkit check` lists them.
-    #[error(
-        "operand {operand} intersects itself: {count} face pairs, first {}",
-        format_pairs(first)
-    )]
-    SelfIntersecting {
-        /// The operand.
-        operand: usize,
-        /// How many face pairs intersect.
-        count: usize,
-        /// The first few pairs of face indices.
-        first: Vec<(FaceId, FaceId)>,
-    },
     /// The progress callback asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -195,13 +193,6 @@ pub enum BooleanError {
 
 fn format_edges(edges: &[[u32; 2]]) -> String {
     let list: Vec<String> = edges.iter().map(|[a, b]| format!("{a}–{b}")).collect();
-    list.join(", ")
-}
-
-fn format_pairs(pairs: &[(FaceId, FaceId)]) -> String {
-    let list: Vec<String> = (pairs.iter())
-        .map(|(f, g)| format!("{}×{}", f.index(), g.index()))
-        .collect();
     list.join(", ")
 }
 
@@ -242,12 +233,22 @@ pub fn boolean(
     stats.input_triangles = input.triangles.len();
     clock.finish(Stage::Ingest, &mut stats)?;
 
-    if options.check_self_intersections {
-        ingest::check_self_intersections(&input)?;
+    let (self_pairs, general) = if options.check_self_intersections {
+        let pairs = ingest::self_intersecting_pairs(&input);
+        let general = !pairs.is_empty() || winding::has_nested_shells(&input);
         clock.finish(Stage::Validate, &mut stats)?;
-    }
+        (pairs, general)
+    } else {
+        (Vec::new(), false)
+    };
+    stats.self_intersecting_pairs = self_pairs.len();
+    stats.winding_classification = general;
 
-    let pairs = broad::candidate_pairs(&input);
+    let mut pairs = broad::candidate_pairs(&input);
+    if !self_pairs.is_empty() {
+        pairs.extend(self_pairs);
+        pairs.sort_unstable();
+    }
     stats.candidate_pairs = pairs.len();
     clock.finish(Stage::Broad, &mut stats)?;
 
@@ -259,11 +260,25 @@ pub fn boolean(
     stats.split_triangles = arrangement.split_triangles;
     clock.finish(Stage::Split, &mut stats)?;
 
-    let labels = classify::classify(&input, &arrangement)?;
-    stats.patches = labels.patch_count();
-    clock.finish(Stage::Classify, &mut stats)?;
-
-    let kept = select::select(op, &input, &arrangement, &labels);
+    let kept = if general {
+        let (patch_of, patch_count) = classify::patch_partition(&input, &arrangement);
+        stats.patches = patch_count;
+        let kept = winding::select(
+            op,
+            options.winding,
+            &input,
+            &arrangement,
+            &patch_of,
+            patch_count,
+        )?;
+        clock.finish(Stage::Classify, &mut stats)?;
+        kept
+    } else {
+        let labels = classify::classify(&input, &arrangement)?;
+        stats.patches = labels.patch_count();
+        clock.finish(Stage::Classify, &mut stats)?;
+        select::select(op, &input, &arrangement, &labels)
+    };
     let assembled = assemble::assemble(&input, &arrangement, &kept);
     stats.rounding_self_intersections = assembled.rounding_folds;
     let mut mesh = assembled.mesh;

@@ -72,6 +72,11 @@ impl Labels {
     }
 }
 
+/// The patches of the arrangement: the patch of each sub-triangle, and how many there are.
+pub(crate) fn patch_partition(input: &Input, arr: &Arrangement) -> (Vec<u32>, usize) {
+    patches(input, arr, &EdgeGroups::new(input, arr))
+}
+
 /// Below this many rays, rays scan the triangles in parallel instead of building a BVH.
 const RAYS_WITHOUT_INDEX: usize = 8;
 

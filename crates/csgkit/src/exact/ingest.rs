@@ -302,26 +302,17 @@ fn signed_volume(input: &Input, k: usize) -> f64 {
     sum / 6.0
 }
 
-/// Checks that no operand intersects itself.
-///
-/// # Errors
-/// [`BooleanError::SelfIntersecting`] for the first operand that does, with its face pairs.
-pub(crate) fn check_self_intersections(input: &Input) -> Result<(), BooleanError> {
+/// Every pair of triangles of one operand that intersect other than along what they share
+/// (global triangle ids, `(smaller, larger)`), operand by operand: the exact check of
+/// [`self_intersections`](super::self_intersections), whose pairs the driver adds to the
+/// arrangement.
+pub(crate) fn self_intersecting_pairs(input: &Input) -> Vec<(u32, u32)> {
+    let mut all = Vec::new();
     for k in 0..input.operand_count() {
         let range = input.operand_triangles(k);
-        let triangles = &input.triangles[range.clone()];
-        let pairs = super::self_intersect::intersecting_pairs(triangles);
-        if !pairs.is_empty() {
-            let face = |t: u32| input.face[range.start + t as usize];
-            let mut faces: Vec<(FaceId, FaceId)> =
-                pairs.iter().map(|&(s, t)| (face(s), face(t))).collect();
-            faces.dedup();
-            return Err(BooleanError::SelfIntersecting {
-                operand: k,
-                count: faces.len(),
-                first: faces.into_iter().take(ERROR_EXAMPLES).collect(),
-            });
-        }
+        let offset = range.start as u32;
+        let pairs = super::self_intersect::intersecting_pairs(&input.triangles[range]);
+        all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
     }
-    Ok(())
+    all
 }

@@ -33,6 +33,7 @@ mod select;
 pub mod self_intersect;
 mod split;
 mod subdivide;
+mod winding;
 
 pub use boolean::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, ProgressFn, Stage, boolean,
@@ -42,3 +43,4 @@ pub use intersect::{
 };
 pub use self_intersect::{SelfIntersections, self_intersections};
 pub use split::{Split, SplitError, split_triangle};
+pub use winding::WindingRule;

@@ -1,0 +1,413 @@
+//! The **winding** classification (`design/exact.md`, stages 6 and 7 for operands that are not
+//! simple solids): the exact winding number of every operand just in front of every patch,
+//! and the patches that bound the result.
+//!
+//! # When it runs
+//! [`classify`](super::classify) and [`select`](super::select) assume every winding number is
+//! 0 or 1: the operands are embedded, outward-oriented surfaces. An operand whose faces cross
+//! each other, or whose shells overlap or nest, breaks that assumption; then the driver
+//! intersects its triangles with each other in the same arrangement as the pairs across
+//! operands, and this stage replaces both. Operands that are simple solids never come here,
+//! so they keep the local-test path and its cost.
+//!
+//! # Contract
+//! In: the arrangement of every intersecting pair (across operands and within one), so no
+//! surface crosses the interior of a sub-triangle. Out: the kept sub-triangles and their
+//! orientation. The interior of operand `k` is where its winding number `w_k` satisfies the
+//! [`WindingRule`]: non-zero (the default, libigl's and Blender Exact's rule for
+//! self-intersecting input) or positive.
+//!
+//! # Algorithm
+//! Per patch (sub-triangles connected without crossing any surface, `classify::patches`):
+//! 1. **Sample.** A point `C` strictly inside the projection of one of its sub-triangles `s`
+//!    (the f64 centroid of the corners, verified by exact [`orient2d_projected`]), projected
+//!    along the axis `a` its source triangle `T` does not collapse on; `p` is the point of
+//!    `T`'s plane over `C` (an explicit point when `T` is perpendicular to `a`, otherwise the
+//!    [`Point::lpi`] of the line through `C` along `a`), exactly inside `s`.
+//! 2. **Ray.** From `p` along `±a`, towards the side `T`'s normal points to. Every input
+//!    triangle `U` whose projection contains `C` (exact [`orient2d`], with the symbolic
+//!    perturbation of `C` by `(ε, ε²)` so rays through edges and vertices count once) is
+//!    either crossed in front of `p` (exact [`orient3d_plane`] of `p`) and adds ±1 to its
+//!    operand's winding number, or passes through `p`: then it is coplanar with `T` and
+//!    covers the patch (a coincident face, same or opposite orientation). Triangles parallel
+//!    to the ray are missed by the perturbed ray.
+//! 3. **Decide.** `front` is the winding vector just in front of the patch and `back` adds
+//!    the orientation of every coincident face (`T` included) to its operand. The patch bounds
+//!    the result when the operation contains exactly one side; it is reversed when that side
+//!    is the front. A stack of coincident patches is kept once: from the lowest operand, and
+//!    within it from the lowest patch (coincident patches cover the same region, since each is
+//!    cut along the other's edges).
+//!
+//! # Complexity
+//! One [`Bvh`] over the input triangles and one ray per patch: O((n + P) log n) plus the
+//! triangles each ray meets.
+
+use rayon::prelude::*;
+
+use crate::index::{Aabb, Bvh};
+use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d_plane, simplify};
+use crate::mesh::union_find::UnionFind;
+
+use super::boolean::{BooleanError, Operation};
+use super::ingest::{Input, NO_NEIGHBOUR};
+use super::intersect::Triangle;
+use super::select::Kept;
+use super::subdivide::Arrangement;
+
+/// Which winding numbers count as inside an operand.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum WindingRule {
+    /// Inside where the winding number is not zero (libigl's and Blender Exact's rule).
+    #[default]
+    NonZero,
+    /// Inside where the winding number is positive: inverted pockets are outside.
+    Positive,
+}
+
+impl WindingRule {
+    /// Whether winding number `w` is inside.
+    pub fn inside(self, w: i32) -> bool {
+        match self {
+            WindingRule::NonZero => w != 0,
+            WindingRule::Positive => w > 0,
+        }
+    }
+}
+
+/// Rays from points of triangles, against every input triangle.
+pub(crate) struct RayCaster<'a> {
+    input: &'a Input,
+    tree: Bvh,
+}
+
+/// What a ray from a point of a triangle finds.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Sample {
+    /// Winding numbers just in front of the point, per operand (non-zero entries only,
+    /// sorted by operand).
+    pub front: Vec<(u32, i32)>,
+    /// The input triangles through the point (coplanar with the sampled one, which is among
+    /// them), each with `+1` when it faces the same way and `-1` otherwise.
+    pub coincident: Vec<(u32, i32)>,
+}
+
+/// A point to cast from: `c` is strictly inside the sampled sub-triangle's projection along
+/// `axis`, and `p` is the point over it on the source triangle's plane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SamplePoint {
+    pub source: u32,
+    pub c: Point3,
+    pub p: Point,
+}
+
+impl<'a> RayCaster<'a> {
+    pub(crate) fn new(input: &'a Input) -> Self {
+        let tree = Bvh::build_with(input.triangles.len(), |t| {
+            Aabb::from_points(input.triangles[t].positions().iter())
+        });
+        Self { input, tree }
+    }
+
+    /// The winding numbers just in front of `at` (on the side its triangle's normal points
+    /// to), and the triangles through it.
+    pub(crate) fn cast(&self, at: &SamplePoint) -> Sample {
+        let tri = &self.input.triangles[at.source as usize];
+        let axis = tri.drop_axis();
+        let a = axis.index();
+        let (u, v) = ((a + 1) % 3, (a + 2) % 3);
+        let turn = orient2d_projected_explicit(tri, axis);
+        let positions = tri.positions();
+        let (lo, hi) = (positions.iter())
+            .map(|q| q[a])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                (l.min(x), h.max(x))
+            });
+        // p lies on the triangle, so its coordinate `a` is within the triangle's range.
+        let mut query = Aabb {
+            min: at.c,
+            max: at.c,
+        };
+        if turn == Sign::Positive {
+            query.min[a] = lo;
+            query.max[a] = f64::INFINITY;
+        } else {
+            query.min[a] = f64::NEG_INFINITY;
+            query.max[a] = hi;
+        }
+        let c2 = [at.c[u], at.c[v]];
+        let mut sample = Sample::default();
+        self.tree.visit_overlapping(&query, |t| {
+            let other = &self.input.triangles[t as usize];
+            let k = self.input.operand[t as usize];
+            match ray_meets(other, [u, v], c2, &at.p, turn) {
+                RayHit::Miss => {}
+                RayHit::Through(sigma) => sample.coincident.push((t, sigma)),
+                RayHit::Crossing(sigma) => match sample.front.iter_mut().find(|e| e.0 == k) {
+                    Some(entry) => entry.1 += sigma,
+                    None => sample.front.push((k, sigma)),
+                },
+            }
+        });
+        sample.front.retain(|e| e.1 != 0);
+        sample.front.sort_unstable();
+        sample.coincident.sort_unstable();
+        sample
+    }
+}
+
+/// What the ray meets of one triangle.
+enum RayHit {
+    Miss,
+    /// The triangle passes through the ray's origin, facing the same way (`1`) or not (`-1`).
+    Through(i32),
+    /// Crossed in front of the origin, leaving (`1`) or entering (`-1`) the triangle's solid.
+    Crossing(i32),
+}
+
+/// The ray from `p` along axis `a` (the coordinate not in `uv`), in the direction `turn`
+/// (the sign of the sampled triangle's normal on `a`), whose projection is the point `c`
+/// perturbed by `(ε, ε²)` in `uv`, against triangle `other`.
+fn ray_meets(other: &Triangle, uv: [usize; 2], c: [f64; 2], p: &Point, turn: Sign) -> RayHit {
+    let q = other.positions();
+    let [x, y, z] = q.map(|q| [q[uv[0]], q[uv[1]]]);
+    let o = orient2d(x, y, z);
+    if o == Sign::Zero {
+        return RayHit::Miss; // parallel to the ray: the perturbed ray misses it
+    }
+    // The side of `c + (ε, ε²)` of the directed edge x → y.
+    let side = |x: [f64; 2], y: [f64; 2]| match orient2d(x, y, c) {
+        Sign::Zero => match Sign::of(x[1] - y[1]) {
+            Sign::Zero => Sign::of(y[0] - x[0]),
+            s => s,
+        },
+        s => s,
+    };
+    if side(x, y) != o || side(y, z) != o || side(z, x) != o {
+        return RayHit::Miss;
+    }
+    let sigma = if o == turn { 1 } else { -1 };
+    // orient3d is the sign of n · (q0 − p) = n_a (X_a − p_a) for the hit point X, and
+    // sign(n_a) = o: the hit is in front when X_a − p_a has the sign `turn`.
+    match orient3d_plane(q[0], q[1], q[2], p) {
+        Sign::Zero => RayHit::Through(sigma),
+        h if h.times(o) == turn => RayHit::Crossing(sigma),
+        _ => RayHit::Miss,
+    }
+}
+
+fn orient2d_projected_explicit(tri: &Triangle, axis: crate::kernel::Axis) -> Sign {
+    let [a, b, c] = tri.positions().map(Point::Explicit);
+    orient2d_projected(&a, &b, &c, axis)
+}
+
+/// A sample point strictly inside sub-triangle `corners` of input triangle `source`, or
+/// `None` when the f64 centroid of its projection is not strictly inside (a sliver).
+pub(crate) fn sample_point(
+    input: &Input,
+    source: u32,
+    corners: &[Point; 3],
+) -> Option<SamplePoint> {
+    let tri = &input.triangles[source as usize];
+    let axis = tri.drop_axis();
+    let a = axis.index();
+    let approx = corners.map(|p| p.approx());
+    let mut c = [0.0; 3];
+    for k in 0..3 {
+        c[k] = (approx[0][k] + approx[1][k] + approx[2][k]) / 3.0;
+    }
+    c[a] = 0.0;
+    let turn = orient2d_projected_explicit(tri, axis);
+    let at = Point::Explicit(c);
+    let strictly_inside =
+        (0..3).all(|i| orient2d_projected(&corners[i], &corners[(i + 1) % 3], &at, axis) == turn);
+    if !strictly_inside {
+        return None;
+    }
+    let q = tri.positions();
+    let p = if q[0][a] == q[1][a] && q[1][a] == q[2][a] {
+        let mut p = c;
+        p[a] = q[0][a];
+        Point::Explicit(p)
+    } else {
+        let (lo, hi) = (q.iter())
+            .map(|q| q[a])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                (l.min(x), h.max(x))
+            });
+        let (mut from, mut to) = (c, c);
+        from[a] = lo;
+        to[a] = hi;
+        simplify(
+            Point::lpi(from, to, q[0], q[1], q[2])
+                .expect("a line along an axis the plane's normal has meets the plane"),
+        )
+    };
+    Some(SamplePoint { source, c, p })
+}
+
+/// The kept sub-triangles of `op` under `rule`, decided by the winding numbers at every patch.
+///
+/// # Errors
+/// [`BooleanError::Unsupported`] when a patch has no sub-triangle wide enough to hold an f64
+/// sample point strictly inside.
+pub(crate) fn select(
+    op: Operation,
+    rule: WindingRule,
+    input: &Input,
+    arr: &Arrangement,
+    patch_of: &[u32],
+    patch_count: usize,
+) -> Result<Kept, BooleanError> {
+    let corners = |s: usize| arr.triangles[s].map(|v| arr.point(input, v));
+    // The first sub-triangle of each patch that holds a sample point.
+    let mut samples: Vec<Option<(u32, SamplePoint)>> = vec![None; patch_count];
+    let mut missing = patch_count;
+    for (s, &p) in patch_of.iter().enumerate() {
+        if missing == 0 {
+            break;
+        }
+        if samples[p as usize].is_some() {
+            continue;
+        }
+        if let Some(at) = sample_point(input, arr.source[s], &corners(s)) {
+            samples[p as usize] = Some((s as u32, at));
+            missing -= 1;
+        }
+    }
+    if let Some(p) = samples.iter().position(Option::is_none) {
+        return Err(BooleanError::Unsupported(format!(
+            "surface patch {p} has no sub-triangle wide enough to sample"
+        )));
+    }
+    let caster = RayCaster::new(input);
+    let operand_count = input.operand_count();
+    let decisions: Vec<Option<bool>> = samples
+        .par_iter()
+        .enumerate()
+        .map(|(patch, sample)| {
+            let (_, at) = sample.as_ref().expect("every patch was sampled");
+            let found = caster.cast(at);
+            decide(
+                op,
+                rule,
+                operand_count,
+                input,
+                arr,
+                patch_of,
+                patch as u32,
+                at,
+                &found,
+            )
+        })
+        .collect();
+    Ok((0..arr.triangles.len() as u32)
+        .into_par_iter()
+        .filter_map(|s| decisions[patch_of[s as usize] as usize].map(|flip| (s, flip)))
+        .collect())
+}
+
+/// `Some(reverse)` when patch `patch`, sampled at `at` with ray result `found`, bounds the
+/// result and is the one face kept of its coincident stack.
+#[allow(clippy::too_many_arguments)]
+fn decide(
+    op: Operation,
+    rule: WindingRule,
+    operand_count: usize,
+    input: &Input,
+    arr: &Arrangement,
+    patch_of: &[u32],
+    patch: u32,
+    at: &SamplePoint,
+    found: &Sample,
+) -> Option<bool> {
+    let own = input.operand[at.source as usize];
+    let mut front = vec![0i32; operand_count];
+    for &(k, w) in &found.front {
+        front[k as usize] = w;
+    }
+    let mut back = front.clone();
+    for &(t, sigma) in &found.coincident {
+        back[input.operand[t as usize] as usize] += sigma;
+    }
+    let contains = |w: &[i32]| op.contains(w.iter().map(|&w| rule.inside(w)));
+    let (in_front, in_back) = (contains(&front), contains(&back));
+    if in_front == in_back {
+        return None;
+    }
+    if found.coincident.len() > 1 {
+        let lowest = (found.coincident.iter())
+            .map(|&(t, _)| input.operand[t as usize])
+            .min()
+            .expect("the sampled triangle is coincident with itself");
+        if own != lowest {
+            return None;
+        }
+        let first_patch = (found.coincident.iter())
+            .filter(|&&(t, _)| input.operand[t as usize] == own)
+            .filter_map(|&(t, _)| patch_at(input, arr, patch_of, t, &at.c))
+            .min();
+        if first_patch.is_some_and(|first| first != patch) {
+            return None;
+        }
+    }
+    Some(in_front)
+}
+
+/// The patch of the sub-triangle of input triangle `t` whose projection contains `c`.
+fn patch_at(input: &Input, arr: &Arrangement, patch_of: &[u32], t: u32, c: &Point3) -> Option<u32> {
+    let tri = &input.triangles[t as usize];
+    let axis = tri.drop_axis();
+    let turn = orient2d_projected_explicit(tri, axis);
+    let at = Point::Explicit(*c);
+    let range = arr.sub_starts[t as usize] as usize..arr.sub_starts[t as usize + 1] as usize;
+    range
+        .into_iter()
+        .find(|&s| {
+            let corners = arr.triangles[s].map(|v| arr.point(input, v));
+            (0..3).all(|i| {
+                orient2d_projected(&corners[i], &corners[(i + 1) % 3], &at, axis) != turn.flip()
+            })
+        })
+        .map(|s| patch_of[s])
+}
+
+/// Whether some operand has several shells whose winding numbers are not all 0 in front and
+/// 1 behind (nested or overlapping shells, or an inward shell not inside another), which the
+/// local-test classification cannot handle. Operands must have no self-intersection: then
+/// each shell is embedded and meets no other, so the winding number in front of a shell is
+/// the same all over it and one ray per shell decides.
+pub(crate) fn has_nested_shells(input: &Input) -> bool {
+    let mut shells = UnionFind::new(input.triangles.len());
+    for (side, &n) in input.neighbours.iter().enumerate() {
+        if n != NO_NEIGHBOUR {
+            shells.union((side / 3) as u32, n);
+        }
+    }
+    // The first triangle of every shell of an operand with more than one.
+    let mut firsts: Vec<u32> = Vec::new();
+    for k in 0..input.operand_count() {
+        let range = input.operand_triangles(k);
+        let start = firsts.len();
+        for t in range {
+            if shells.find(t as u32) == t as u32 {
+                firsts.push(t as u32);
+            }
+        }
+        if firsts.len() - start == 1 {
+            firsts.pop();
+        }
+    }
+    if firsts.is_empty() {
+        return false;
+    }
+    let caster = RayCaster::new(input);
+    firsts.par_iter().any(|&t| {
+        let corners = input.triangles[t as usize].positions().map(Point::Explicit);
+        let own = input.operand[t as usize];
+        match sample_point(input, t, &corners) {
+            Some(at) => (caster.cast(&at).front.iter()).any(|&(k, w)| k == own && w != 0),
+            // A triangle too thin for an f64 sample: take the general path to be safe.
+            None => true,
+        }
+    })
+}
