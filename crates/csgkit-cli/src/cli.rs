@@ -41,6 +41,12 @@ enum Command {
     #[command(after_help = "Example (the block minus both holes):\n  \
         csgkit difference block.obj hole1.obj hole2.obj -o drilled.obj")]
     Difference(exact::ExactArgs),
+    /// The boundary of the region inside a mesh whose faces may cross or whose shells may
+    /// nest: a valid solid, certified free of self-intersections.
+    #[command(after_help = "Examples:\n  \
+        csgkit repair downloaded.stl -o solid.obj\n  \
+        csgkit repair folded.obj -o fixed.obj --winding positive --stats")]
+    Repair(commands::repair::RepairArgs),
     /// The exact boundary of a union of axis-aligned boxes (.vox or a box text file).
     Boxes(boxes::BoxesArgs),
     /// Runs the engine on built-in data and writes its outputs.
@@ -60,13 +66,14 @@ pub fn run() -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Info(args) => commands::info::run(&args),
         Command::Check(args) => commands::check::run(&args),
-        Command::Union(args) => exact::run(Operation::Union, &args).map(|()| ExitCode::SUCCESS),
+        Command::Union(args) => exact::run(Operation::Union, &args).map(|_| ExitCode::SUCCESS),
         Command::Intersection(args) => {
-            exact::run(Operation::Intersection, &args).map(|()| ExitCode::SUCCESS)
+            exact::run(Operation::Intersection, &args).map(|_| ExitCode::SUCCESS)
         }
         Command::Difference(args) => {
-            exact::run(Operation::Difference, &args).map(|()| ExitCode::SUCCESS)
+            exact::run(Operation::Difference, &args).map(|_| ExitCode::SUCCESS)
         }
+        Command::Repair(args) => commands::repair::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Boxes(args) => boxes::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Demo(args) => demo::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Discrete(args) => commands::discrete::run(&args),

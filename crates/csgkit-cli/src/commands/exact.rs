@@ -78,8 +78,9 @@ impl Winding {
     }
 }
 
-/// Runs `csgkit union`, `intersection` or `difference`.
-pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<()> {
+/// Runs `csgkit union`, `intersection` or `difference` (and `repair`, a union of one operand);
+/// returns what the library reported.
+pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
     // The format is settled before any work, so a mistyped extension costs nothing.
     let format = Format::from_extension(&args.output).ok_or_else(|| WriteError::UnknownFormat {
         path: args.output.clone(),
@@ -92,12 +93,6 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<()> {
     let result = compute(op, args, &meshes)
         .with_context(|| format!("cannot compute the {}", op_name(op)))?;
     warn_if_manifold_lost(args.manifold, &args.output);
-    let folds = result.stats.rounding_self_intersections;
-    if folds > 0 {
-        eprintln!(
-            "csgkit: warning: rounding the intersection points to f64 made {folds} face pairs of the result cross; `csgkit check` lists them"
-        );
-    }
     let clock = Instant::now();
     let options = WriteOptions {
         format: Some(format),
@@ -113,7 +108,7 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<()> {
         let stats = stats_json(op, args, &meshes, &result, &result.mesh.report(), seconds);
         println!("{stats}");
     }
-    Ok(())
+    Ok(result.stats)
 }
 
 /// Runs the boolean with a bar per stage; an error about an operand names its file.
@@ -213,7 +208,10 @@ fn stats_json(
         "self_intersecting_pairs": s.self_intersecting_pairs,
         "winding_classification": s.winding_classification,
         "output_triangles": s.output_triangles,
-        "rounding_self_intersections": s.rounding_self_intersections,
+        "rounded_vertices": s.rounded_vertices,
+        "snapped_vertices": s.snapped_vertices,
+        "max_snap_displacement": s.max_snap_displacement,
+        "certify_rounds": s.certify_rounds,
         "output_vertices": result.mesh.vertex_count(),
         "valid_solid": report.valid_solid,
         "volume": report.measures.volume,

@@ -7,6 +7,7 @@ pub mod demo;
 pub mod discrete;
 pub mod exact;
 pub mod info;
+pub mod repair;
 
 use std::path::Path;
 

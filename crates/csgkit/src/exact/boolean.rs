@@ -3,10 +3,12 @@
 
 use std::time::Instant;
 
+use crate::kernel::Point3;
 use crate::mesh::Mesh;
 
+use super::assemble::Rounded;
 use super::winding::{self, WindingRule};
-use super::{assemble, broad, classify, ingest, select, subdivide};
+use super::{assemble, broad, certify, classify, ingest, select, subdivide};
 
 /// A boolean operation on solids.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -56,6 +58,9 @@ pub enum Stage {
     Classify,
     /// Keeping the sub-triangles the operation asks for, and the output mesh.
     Assemble,
+    /// The output checked as f64 numbers, repaired where rounding folded or collapsed it
+    /// (snap rounding), and the optional 2-manifold split.
+    Certify,
 }
 
 /// A progress callback, called with `(stage, done, total)`; returning `false` cancels.
@@ -113,9 +118,16 @@ pub struct BooleanStats {
     pub winding_classification: bool,
     /// Triangles of the result.
     pub output_triangles: usize,
-    /// Face pairs of the result that intersect because intersection points were rounded to
-    /// f64 (0 almost always; see the assemble stage).
-    pub rounding_self_intersections: usize,
+    /// Output vertices that are intersection points rounded to f64.
+    pub rounded_vertices: usize,
+    /// Output vertices moved to a coarser grid because rounding made faces cross or
+    /// collapse (0 almost always; see the certify stage).
+    pub snapped_vertices: usize,
+    /// The largest distance a snapped vertex moved, relative to the diagonal of the result's
+    /// bounding box.
+    pub max_snap_displacement: f64,
+    /// Rounds of snapping and exact re-refinement certification needed.
+    pub certify_rounds: usize,
 }
 
 impl BooleanStats {
@@ -183,6 +195,20 @@ pub enum BooleanError {
         /// Its signed volume.
         volume: f64,
     },
+    /// Rounding the result to f64 made faces cross or collapse, and snapping their vertices
+    /// to the coarsest grid allowed did not repair it; nothing was produced.
+    ///
+    /// *What to try*: report the input; the exact result exists but has no f64 form within
+    /// the certified displacement bound.
+    #[error(
+        "the result could not be written in f64 without {crossing_pairs} crossing face pairs and {degenerate_faces} degenerate faces"
+    )]
+    NotCertified {
+        /// Crossing face pairs left.
+        crossing_pairs: usize,
+        /// Degenerate faces left.
+        degenerate_faces: usize,
+    },
     /// The progress callback asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -228,15 +254,61 @@ pub fn boolean(
     }
     let mut stats = BooleanStats::default();
     let mut clock = StageClock::new(options.progress);
+    let rounded = exact_result(op, operands, options, None, &mut stats, &mut clock)?;
 
+    // Re-refinement of a snapped soup: its union alone, where folds rounding turned inside
+    // out (winding number −1) are outside.
+    let refine_options = BooleanOptions {
+        check_self_intersections: true,
+        winding: WindingRule::Positive,
+        split_non_manifold: false,
+        progress: None,
+    };
+    let (mut mesh, certificate) = certify::certify(rounded, |soup, suspects| {
+        let mut inner = BooleanStats::default();
+        exact_result(
+            Operation::Union,
+            &[soup],
+            &refine_options,
+            Some(suspects),
+            &mut inner,
+            &mut StageClock::new(None),
+        )
+    })?;
+    stats.rounded_vertices = certificate.rounded_vertices;
+    stats.snapped_vertices = certificate.snapped_vertices;
+    stats.max_snap_displacement = certificate.max_snap_displacement;
+    stats.certify_rounds = certificate.rounds;
+    if options.split_non_manifold {
+        mesh = crate::mesh::split_non_manifold(&mesh);
+    }
+    stats.output_triangles = mesh.face_count();
+    clock.finish(Stage::Certify, &mut stats)?;
+    Ok(Boolean { mesh, stats })
+}
+
+/// The stages from ingest to assemble: the exact result, rounded to f64 once. With
+/// `suspects`, the self-intersection check looks only at triangles with a vertex at one of
+/// those positions (the rest is known to be free of crossings).
+fn exact_result(
+    op: Operation,
+    operands: &[&Mesh],
+    options: &BooleanOptions,
+    suspects: Option<&[Point3]>,
+    stats: &mut BooleanStats,
+    clock: &mut StageClock,
+) -> Result<Rounded, BooleanError> {
     let input = ingest::ingest(operands)?;
     stats.input_triangles = input.triangles.len();
-    clock.finish(Stage::Ingest, &mut stats)?;
+    clock.finish(Stage::Ingest, stats)?;
 
     let (self_pairs, general) = if options.check_self_intersections {
-        let pairs = ingest::self_intersecting_pairs(&input);
+        let pairs = match suspects {
+            None => ingest::self_intersecting_pairs(&input),
+            Some(at) => ingest::self_intersecting_pairs_at(&input, at),
+        };
         let general = !pairs.is_empty() || winding::has_nested_shells(&input);
-        clock.finish(Stage::Validate, &mut stats)?;
+        clock.finish(Stage::Validate, stats)?;
         (pairs, general)
     } else {
         (Vec::new(), false)
@@ -250,15 +322,15 @@ pub fn boolean(
         pairs.sort_unstable();
     }
     stats.candidate_pairs = pairs.len();
-    clock.finish(Stage::Broad, &mut stats)?;
+    clock.finish(Stage::Broad, stats)?;
 
     let contacts = subdivide::intersect_pairs(&input, &pairs);
     stats.intersecting_pairs = contacts.intersecting_pairs;
-    clock.finish(Stage::Intersect, &mut stats)?;
+    clock.finish(Stage::Intersect, stats)?;
 
     let arrangement = subdivide::split(&input, contacts)?;
     stats.split_triangles = arrangement.split_triangles;
-    clock.finish(Stage::Split, &mut stats)?;
+    clock.finish(Stage::Split, stats)?;
 
     let kept = if general {
         let (patch_of, patch_count) = classify::patch_partition(&input, &arrangement);
@@ -271,23 +343,17 @@ pub fn boolean(
             &patch_of,
             patch_count,
         )?;
-        clock.finish(Stage::Classify, &mut stats)?;
+        clock.finish(Stage::Classify, stats)?;
         kept
     } else {
         let labels = classify::classify(&input, &arrangement)?;
         stats.patches = labels.patch_count();
-        clock.finish(Stage::Classify, &mut stats)?;
+        clock.finish(Stage::Classify, stats)?;
         select::select(op, &input, &arrangement, &labels)
     };
-    let assembled = assemble::assemble(&input, &arrangement, &kept);
-    stats.rounding_self_intersections = assembled.rounding_folds;
-    let mut mesh = assembled.mesh;
-    if options.split_non_manifold {
-        mesh = crate::mesh::split_non_manifold(&mesh);
-    }
-    stats.output_triangles = mesh.face_count();
-    clock.finish(Stage::Assemble, &mut stats)?;
-    Ok(Boolean { mesh, stats })
+    let rounded = assemble::assemble(&input, &arrangement, &kept);
+    clock.finish(Stage::Assemble, stats)?;
+    Ok(rounded)
 }
 
 /// Times consecutive stages and reports each to the progress callback.

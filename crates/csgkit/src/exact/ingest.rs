@@ -104,10 +104,12 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     let mut face = Vec::new();
     let mut operand_starts = vec![0u32];
     let mut vertex_offset = 0usize;
+    let mut degenerate = Vec::new();
     for (k, mesh) in operands.iter().enumerate() {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
         let start = triangles.len();
-        add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles);
+        let dropped = add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles);
+        degenerate.extend(dropped.into_iter().map(|t| (k as u32, t)));
         operand.extend(std::iter::repeat_n(k as u32, triangles.len() - start));
         vertex_offset += mesh.vertex_count();
         operand_starts.push(triangles.len() as u32);
@@ -131,7 +133,8 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
         operand_boxes,
         neighbours: Vec::new(),
     };
-    input.neighbours = link_edges(&input, operands, &welding.remap, &vertex_offsets(operands))?;
+    let offsets = vertex_offsets(operands);
+    input.neighbours = link_edges(&input, &degenerate, operands, &welding.remap, &offsets)?;
     for k in 0..operands.len() {
         let volume = signed_volume(&input, k);
         if volume < 0.0 {
@@ -146,30 +149,52 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
 
 /// Appends the non-degenerate fan triangles of one operand over the welded vertices (`remap`
 /// maps its vertices to welded ids) and their faces; triangle meshes in parallel, straight
-/// into the output vectors.
+/// into the output vectors. Returns the exactly degenerate triangles it left out, over welded
+/// ids: their edges still count in the closedness check (a flat triangle between two
+/// neighbours that meet it along its long side is a T-junction the arrangement resolves, not
+/// a hole).
 fn add_operand_triangles(
     mesh: &Mesh,
     remap: &[u32],
     positions: &[Point3],
     faces: &mut Vec<FaceId>,
     triangles: &mut Vec<Triangle>,
-) {
+) -> Vec<[u32; 3]> {
     let make = |f: FaceId, corners: [u32; 3]| {
         let ids = corners.map(|v| remap[v as usize]);
-        Triangle::new(0, ids, ids.map(|v| positions[v as usize])).map(|t| (f, t))
+        Triangle::new(0, ids, ids.map(|v| positions[v as usize]))
+            .map(|t| (f, t))
+            .ok_or(ids)
     };
+    let mut degenerate = Vec::new();
     if mesh.is_triangle_mesh() {
+        let start = faces.len();
         let found = (mesh.corners().par_chunks_exact(3).enumerate())
-            .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]));
+            .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]).ok());
         let mut both = (std::mem::take(faces), std::mem::take(triangles));
         both.par_extend(found);
         (*faces, *triangles) = both;
+        // Degenerate triangles are rare: find the faces left out only when there are some.
+        if faces.len() - start < mesh.face_count() {
+            let mut kept = faces[start..].iter().map(|f| f.index()).peekable();
+            for (f, c) in mesh.corners().chunks_exact(3).enumerate() {
+                if kept.next_if_eq(&f).is_none() {
+                    degenerate.push([c[0], c[1], c[2]].map(|v| remap[v as usize]));
+                }
+            }
+        }
     } else {
-        for (f, t) in mesh.fan_triangles().filter_map(|(f, c)| make(f, c)) {
-            faces.push(f);
-            triangles.push(t);
+        for m in mesh.fan_triangles().map(|(f, c)| make(f, c)) {
+            match m {
+                Ok((f, t)) => {
+                    faces.push(f);
+                    triangles.push(t);
+                }
+                Err(ids) => degenerate.push(ids),
+            }
         }
     }
+    degenerate
 }
 
 /// The first vertex index of each operand in the concatenated positions.
@@ -205,6 +230,7 @@ fn power_of_two_scale(coords: &[Point3]) -> f64 {
 /// triangle across it where the edge is a plain two-sided edge of one operand.
 fn link_edges(
     input: &Input,
+    degenerate: &[(u32, [u32; 3])],
     operands: &[&Mesh],
     remap: &[u32],
     offsets: &[usize],
@@ -216,8 +242,23 @@ fn link_edges(
         let v = input.triangles[side / 3].vertices();
         (v[side % 3], v[(side % 3 + 1) % 3])
     };
+    // The sides of degenerate triangles follow, numbered from `side_count`; they count for
+    // balance but link nothing. A side from a vertex to itself is no edge.
+    let flat: Vec<(u32, u32, u32)> = (degenerate.iter())
+        .flat_map(|&(k, t)| (0..3).map(move |i| (k, t[i], t[(i + 1) % 3])))
+        .filter(|&(_, a, b)| a != b)
+        .collect();
+    let all_sides = side_count + flat.len();
+    let ends = |side: usize| match side.checked_sub(side_count) {
+        Some(i) => (flat[i].1, flat[i].2),
+        None => ends(side),
+    };
+    let operand_of = |side: usize| match side.checked_sub(side_count) {
+        Some(i) => flat[i].0,
+        None => input.operand[side / 3],
+    };
     let mut bucket_starts = vec![0u32; input.positions.len() + 1];
-    for side in 0..side_count {
+    for side in 0..all_sides {
         let (a, b) = ends(side);
         bucket_starts[a.min(b) as usize + 1] += 1;
     }
@@ -226,16 +267,12 @@ fn link_edges(
     }
     let mut next = bucket_starts.clone();
     // (key, operand, side << 1 | forward) with key = smaller << 32 | larger.
-    let mut sides = vec![(0u64, 0u32, 0u32); side_count];
-    for side in 0..side_count {
+    let mut sides = vec![(0u64, 0u32, 0u32); all_sides];
+    for side in 0..all_sides {
         let (a, b) = ends(side);
         let slot = &mut next[a.min(b) as usize];
         let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
-        sides[*slot as usize] = (
-            key,
-            input.operand[side / 3],
-            (side as u32) << 1 | u32::from(a < b),
-        );
+        sides[*slot as usize] = (key, operand_of(side), (side as u32) << 1 | u32::from(a < b));
         *slot += 1;
     }
     let mut rest = sides.as_mut_slice();
@@ -246,7 +283,7 @@ fn link_edges(
         rest = tail;
     }
     buckets.par_iter_mut().for_each(|b| b.sort_unstable());
-    let mut neighbours = vec![NO_NEIGHBOUR; sides.len()];
+    let mut neighbours = vec![NO_NEIGHBOUR; side_count];
     let mut unbalanced: Vec<Vec<[u32; 2]>> = vec![Vec::new(); operands.len()];
     let mut unbalanced_count = vec![0usize; operands.len()];
     let mut start = 0;
@@ -272,10 +309,12 @@ fn link_edges(
                 };
                 unbalanced[k].push([local((key >> 32) as u32), local(key as u32)]);
             }
-        } else if run.len() == 2 {
-            let (p, q) = ((run[0].2 >> 1) as usize, (run[1].2 >> 1) as usize);
-            neighbours[p] = (q / 3) as u32;
-            neighbours[q] = (p / 3) as u32;
+        } else if let [r, s] = run {
+            let (p, q) = ((r.2 >> 1) as usize, (s.2 >> 1) as usize);
+            if p < side_count && q < side_count {
+                neighbours[p] = (q / 3) as u32;
+                neighbours[q] = (p / 3) as u32;
+            }
         }
         start = end;
     }
@@ -312,6 +351,29 @@ pub(crate) fn self_intersecting_pairs(input: &Input) -> Vec<(u32, u32)> {
         let range = input.operand_triangles(k);
         let offset = range.start as u32;
         let pairs = super::self_intersect::intersecting_pairs(&input.triangles[range]);
+        all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
+    }
+    all
+}
+
+/// The pairs of [`self_intersecting_pairs`] that involve a triangle with a vertex at one of
+/// `suspects` (unscaled positions): for operands known to be free of self-intersections away
+/// from those vertices (a result whose vertices the certify stage moved).
+pub(crate) fn self_intersecting_pairs_at(input: &Input, suspects: &[Point3]) -> Vec<(u32, u32)> {
+    let key = |p: Point3| p.map(|x| (x + 0.0).to_bits());
+    let at: rustc_hash::FxHashSet<[u64; 3]> = (suspects.iter())
+        .map(|p| key(p.map(|x| x * input.scale)))
+        .collect();
+    let mut all = Vec::new();
+    for k in 0..input.operand_count() {
+        let range = input.operand_triangles(k);
+        let offset = range.start as u32;
+        let triangles = &input.triangles[range];
+        let marked: Vec<u32> = (triangles.iter().enumerate())
+            .filter(|(_, t)| t.positions().iter().any(|&p| at.contains(&key(p))))
+            .map(|(i, _)| i as u32)
+            .collect();
+        let pairs = super::self_intersect::intersecting_pairs_of(triangles, &marked);
         all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
     }
     all

@@ -26,6 +26,7 @@
 mod assemble;
 mod boolean;
 mod broad;
+mod certify;
 mod classify;
 mod ingest;
 pub mod intersect;

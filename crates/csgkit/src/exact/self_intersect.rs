@@ -145,6 +145,43 @@ pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
     pairs
 }
 
+/// The pairs of [`intersecting_pairs`] with at least one triangle in `marked` (sorted
+/// indices into `triangles`): a tree over all triangles, queried by each marked one. For a
+/// mesh known to be free of self-intersections except near a few triangles (the certify
+/// stage's moved faces), at a fraction of the cost of the whole check.
+pub(crate) fn intersecting_pairs_of(triangles: &[Triangle], marked: &[u32]) -> Vec<(u32, u32)> {
+    let box_of = |i: usize| Aabb::from_points(triangles[i].positions().iter());
+    let bvh = Bvh::build_with(triangles.len(), box_of);
+    let is_marked = |j: u32| marked.binary_search(&j).is_ok();
+    let prepared: Vec<Prepared> = triangles.par_iter().map(Prepared::new).collect();
+    let mut pairs: Vec<(u32, u32)> = (marked.par_iter())
+        .flat_map_iter(|&i| {
+            let a = &prepared[i as usize];
+            let mut hits = Vec::new();
+            bvh.visit_overlapping(&box_of(i as usize), |j| {
+                // A pair of marked triangles is tested from its smaller one only.
+                if j == i || (j < i && is_marked(j)) {
+                    return;
+                }
+                let full = || (&triangles[i as usize], &triangles[j as usize]);
+                if counts(a, &prepared[j as usize], full) {
+                    hits.push((i.min(j), i.max(j)));
+                }
+            });
+            hits
+        })
+        .collect();
+    pairs.par_sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
+/// Whether two triangles of one mesh count as intersecting ([`intersecting_pairs`]'s rules,
+/// for one pair).
+pub(crate) fn pair_intersects(a: &Triangle, b: &Triangle) -> bool {
+    counts(&Prepared::new(a), &Prepared::new(b), || (a, b))
+}
+
 /// The non-degenerate fan triangles of `mesh` with welded vertex ids, and the face of each.
 fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>) {
     let positions = mesh.positions();

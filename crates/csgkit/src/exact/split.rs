@@ -246,6 +246,10 @@ fn same_plane(x: &[Point3; 3], y: &[Point3; 3]) -> bool {
         .all(|&p| crate::kernel::orient3d(y[0], y[1], y[2], p) == Sign::Zero)
 }
 
+fn to_coord(p: [f64; 2]) -> robust::Coord<f64> {
+    robust::Coord { x: p[0], y: p[1] }
+}
+
 fn sub(a: Point3, b: Point3) -> Point3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
@@ -365,7 +369,67 @@ impl<'a> Cdt<'a> {
         for (s, seg) in segments.iter().enumerate() {
             cdt.insert_segment(s as u32, seg[0], seg[1])?;
         }
+        cdt.improve();
         Ok(cdt)
+    }
+
+    /// Step 5: Lawson flips of unconstrained interior edges towards the Delaunay
+    /// triangulation, so the output has as few slivers as its constraints allow (a sliver
+    /// whose corner rounding to f64 moves across the opposite edge folds the result).
+    ///
+    /// Which diagonal of a quadrilateral to keep is a choice of shape, not of topology: it is
+    /// made by the in-circle test on f64 approximations of the points, and a flip is done
+    /// only when both new triangles are positively oriented by the exact predicate, so every
+    /// state is a valid triangulation of the same region with the same constrained edges. A
+    /// flip budget stops the (rare) cycles that inexact in-circle answers could cause.
+    fn improve(&mut self) {
+        if self.tris.len() < 2 {
+            return;
+        }
+        let k = self.proj.drop.index();
+        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+        let coords: Vec<[f64; 2]> = (0..self.alias.len() as u32)
+            .map(|id| {
+                let p = self.point(id).approx();
+                [p[u], p[v]]
+            })
+            .collect();
+        let mut stack: Vec<(u32, usize)> = (0..self.tris.len() as u32)
+            .flat_map(|t| (0..3).map(move |i| (t, i)))
+            .collect();
+        let mut budget = 16 * self.tris.len() + 64;
+        while let Some((t, i)) = stack.pop() {
+            if budget == 0 {
+                break;
+            }
+            let tri = self.tris[t as usize];
+            let n = tri.nbr[i];
+            if n == NONE || tri.cons[i] != NONE {
+                continue;
+            }
+            let (a, (b, c)) = (tri.v[i], tri.edge(i));
+            let other = self.tris[n as usize];
+            let Some(j) = other.edge_index(c, b) else {
+                continue;
+            };
+            let d = other.v[j];
+            let [pa, pb, pc, pd] = [a, b, c, d].map(|x| coords[x as usize]);
+            let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
+            let inside = robust::incircle(to_coord(pa), to_coord(pb), to_coord(pc), to_coord(pd));
+            if inside * turn <= 0.0 || inside.is_nan() || turn.is_nan() {
+                continue;
+            }
+            if self.orient(a, b, d) != Sign::Positive || self.orient(a, d, c) != Sign::Positive {
+                continue;
+            }
+            budget -= 1;
+            self.replace(&[t, n], &[[a, b, d], [a, d, c]]);
+            for x in [t, n] {
+                for e in 0..3 {
+                    stack.push((x, e));
+                }
+            }
+        }
     }
 
     fn into_split(self) -> Split {

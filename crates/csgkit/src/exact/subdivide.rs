@@ -418,24 +418,24 @@ fn cut_crossing_segments(
         }
     };
     let drop = tri.drop_axis();
+    // Boxes certain to contain each segment: an approximation of an implicit point can be far
+    // off when its definition is nearly degenerate, so only enclosures may reject a pair.
     let boxes: Vec<Aabb> = (segments.iter())
         .map(|(s, _)| {
-            let ends = [point(points, s[0]).approx(), point(points, s[1]).approx()];
-            Aabb::from_points(ends.iter())
+            let (a, b) = (
+                point(points, s[0]).enclosure(),
+                point(points, s[1]).enclosure(),
+            );
+            Aabb::from_points([a.0, a.1, b.0, b.1].iter())
         })
         .collect();
-    // Approximate coordinates are a few ulps off: widen the boxes of the filter.
-    let margin = {
-        let b = Aabb::from_points(tri.positions().iter());
-        1e-6 * (0..3).map(|k| b.max[k] - b.min[k]).fold(0.0, f64::max)
-    };
     let mut cuts: Vec<(usize, u32)> = Vec::new(); // (segment, local point id)
     let mut crossings: Vec<(PointKey, Point)> = Vec::new();
     for i in 0..segments.len() {
         for j in i + 1..segments.len() {
             let ([a, b], sa) = segments[i];
             let ([c, d], sb) = segments[j];
-            if a == c || a == d || b == c || b == d || !near(&boxes[i], &boxes[j], margin) {
+            if a == c || a == d || b == c || b == d || !boxes[i].overlaps(&boxes[j]) {
                 continue;
             }
             let [pa, pb, pc, pd] = [a, b, c, d].map(|v| point(points, v));
@@ -492,10 +492,6 @@ fn cut_crossing_segments(
     cut_segments.dedup_by_key(|s| s.0);
     *segments = cut_segments;
     crossings
-}
-
-fn near(a: &Aabb, b: &Aabb, margin: f64) -> bool {
-    (0..3).all(|k| a.min[k] - margin <= b.max[k] && b.min[k] - margin <= a.max[k])
 }
 
 /// The point where segments carried by `sa` and `sb` cross inside triangle `t`, with its

@@ -45,7 +45,9 @@
 use rayon::prelude::*;
 
 use crate::index::{Aabb, Bvh};
-use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d_plane, simplify};
+use crate::kernel::{
+    Point, Point3, Sign, orient2d, orient2d_projected, orient3d_plane, orient3d_points, simplify,
+};
 use crate::mesh::union_find::UnionFind;
 
 use super::boolean::{BooleanError, Operation};
@@ -200,6 +202,17 @@ fn orient2d_projected_explicit(tri: &Triangle, axis: crate::kernel::Axis) -> Sig
     orient2d_projected(&a, &b, &c, axis)
 }
 
+/// Barycentric weights of the candidate sample points of a sub-triangle, tried in order.
+const SAMPLE_WEIGHTS: [[f64; 3]; 7] = [
+    [1.0, 1.0, 1.0],
+    [4.0, 1.0, 1.0],
+    [1.0, 4.0, 1.0],
+    [1.0, 1.0, 4.0],
+    [1.0, 4.0, 4.0],
+    [4.0, 1.0, 4.0],
+    [4.0, 4.0, 1.0],
+];
+
 /// A sample point strictly inside sub-triangle `corners` of input triangle `source`, or
 /// `None` when the f64 centroid of its projection is not strictly inside (a sliver).
 pub(crate) fn sample_point(
@@ -211,18 +224,22 @@ pub(crate) fn sample_point(
     let axis = tri.drop_axis();
     let a = axis.index();
     let approx = corners.map(|p| p.approx());
-    let mut c = [0.0; 3];
-    for k in 0..3 {
-        c[k] = (approx[0][k] + approx[1][k] + approx[2][k]) / 3.0;
-    }
-    c[a] = 0.0;
     let turn = orient2d_projected_explicit(tri, axis);
-    let at = Point::Explicit(c);
-    let strictly_inside =
-        (0..3).all(|i| orient2d_projected(&corners[i], &corners[(i + 1) % 3], &at, axis) == turn);
-    if !strictly_inside {
-        return None;
-    }
+    // The centroid first, then points nearer each corner and each edge: a thin sub-triangle
+    // may hold an f64 point away from its centroid.
+    let c = SAMPLE_WEIGHTS.iter().find_map(|w| {
+        let total = w[0] + w[1] + w[2];
+        let mut c = [0.0; 3];
+        for k in 0..3 {
+            c[k] = (w[0] * approx[0][k] + w[1] * approx[1][k] + w[2] * approx[2][k]) / total;
+        }
+        c[a] = 0.0;
+        let at = Point::Explicit(c);
+        let strictly_inside = c.iter().all(|x| x.is_finite())
+            && (0..3)
+                .all(|i| orient2d_projected(&corners[i], &corners[(i + 1) % 3], &at, axis) == turn);
+        strictly_inside.then_some(c)
+    })?;
     let q = tri.positions();
     let p = if q[0][a] == q[1][a] && q[1][a] == q[2][a] {
         let mut p = c;
@@ -274,30 +291,32 @@ pub(crate) fn select(
             missing -= 1;
         }
     }
-    if let Some(p) = samples.iter().position(Option::is_none) {
-        return Err(BooleanError::Unsupported(format!(
-            "surface patch {p} has no sub-triangle wide enough to sample"
-        )));
-    }
     let caster = RayCaster::new(input);
+    let mut found: Vec<Option<Sample>> = (samples.par_iter())
+        .map(|sample| sample.as_ref().map(|(_, at)| caster.cast(at)))
+        .collect();
+    if missing > 0 {
+        propagate_to_slivers(input, arr, patch_of, &mut found)?;
+    }
+    let first_sub = {
+        let mut first = vec![u32::MAX; patch_count];
+        for (s, &p) in patch_of.iter().enumerate().rev() {
+            first[p as usize] = s as u32;
+        }
+        first
+    };
     let operand_count = input.operand_count();
-    let decisions: Vec<Option<bool>> = samples
-        .par_iter()
-        .enumerate()
-        .map(|(patch, sample)| {
-            let (_, at) = sample.as_ref().expect("every patch was sampled");
-            let found = caster.cast(at);
-            decide(
-                op,
-                rule,
-                operand_count,
-                input,
-                arr,
-                patch_of,
-                patch as u32,
-                at,
-                &found,
-            )
+    let decisions: Vec<Option<bool>> = (0..patch_count)
+        .into_par_iter()
+        .map(|patch| {
+            let found = found[patch].as_ref().expect("every patch was classified");
+            let (source, c) = match &samples[patch] {
+                Some((_, at)) => (at.source, Some(at.c)),
+                None => (arr.source[first_sub[patch] as usize], None),
+            };
+            let patch = patch as u32;
+            let at = PatchAt { patch, source, c };
+            decide(op, rule, operand_count, input, arr, patch_of, &at, found)
         })
         .collect();
     Ok((0..arr.triangles.len() as u32)
@@ -306,8 +325,117 @@ pub(crate) fn select(
         .collect())
 }
 
-/// `Some(reverse)` when patch `patch`, sampled at `at` with ray result `found`, bounds the
-/// result and is the one face kept of its coincident stack.
+/// A patch, the input triangle it lies on, and its sample point when it has one.
+struct PatchAt {
+    patch: u32,
+    source: u32,
+    c: Option<Point3>,
+}
+
+/// Classifies the patches no f64 sample point fits in (slivers thinner than the f64 grid)
+/// from a classified neighbour in the same input triangle `T`: just in front of `T`, going
+/// from the neighbour's side of their common edge `e` to the sliver's side crosses exactly
+/// the other sheets at `e` that leave it in front of `T`, and each changes its operand's
+/// winding number by one, up when the sliver's side is behind the sheet (exact
+/// [`orient3d_plane`] and [`orient3d_points`] on the sheets' sub-triangles). Coplanar sheets
+/// lie in `T`'s plane and are not crossed. A classified sliver is counted as covered by `T`
+/// alone.
+fn propagate_to_slivers(
+    input: &Input,
+    arr: &Arrangement,
+    patch_of: &[u32],
+    found: &mut [Option<Sample>],
+) -> Result<(), BooleanError> {
+    let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+    let pending: Vec<u32> = (0..arr.triangles.len() as u32)
+        .filter(|&s| found[patch_of[s as usize] as usize].is_none())
+        .collect();
+    let wanted: rustc_hash::FxHashSet<u64> = (pending.iter())
+        .flat_map(|&s| {
+            let t = arr.triangles[s as usize];
+            (0..3).map(move |i| key(t[i], t[(i + 1) % 3]))
+        })
+        .collect();
+    let mut at_edge: rustc_hash::FxHashMap<u64, Vec<u32>> = rustc_hash::FxHashMap::default();
+    for (s, t) in arr.triangles.iter().enumerate() {
+        for i in 0..3 {
+            let k = key(t[i], t[(i + 1) % 3]);
+            if wanted.contains(&k) {
+                at_edge.entry(k).or_default().push(s as u32);
+            }
+        }
+    }
+    let point = |v: u32| arr.point(input, v);
+    loop {
+        let mut progress = false;
+        for &s in &pending {
+            let p = patch_of[s as usize] as usize;
+            if found[p].is_some() {
+                continue;
+            }
+            let source = arr.source[s as usize];
+            let plane = input.triangles[source as usize].positions();
+            let tri = arr.triangles[s as usize];
+            for i in 0..3 {
+                let (a, b, z) = (tri[i], tri[(i + 1) % 3], tri[(i + 2) % 3]);
+                let group = &at_edge[&key(a, b)];
+                let known = group.iter().find(|&&r| {
+                    r != s
+                        && arr.source[r as usize] == source
+                        && found[patch_of[r as usize] as usize].is_some()
+                });
+                let Some(&q) = known else { continue };
+                let mut front = (found[patch_of[q as usize] as usize].as_ref())
+                    .expect("found above")
+                    .front
+                    .clone();
+                for &r in group {
+                    let sheet = arr.triangles[r as usize];
+                    let x = *sheet
+                        .iter()
+                        .find(|&&v| v != a && v != b)
+                        .expect("a triangle has three vertices");
+                    // In front of T: above its plane (orient3d is negative above).
+                    if orient3d_plane(plane[0], plane[1], plane[2], &point(x)) != Sign::Negative {
+                        continue;
+                    }
+                    let [r0, r1, r2] = sheet.map(point);
+                    let sigma = match orient3d_points(&r0, &r1, &r2, &point(z)) {
+                        Sign::Positive => 1,
+                        Sign::Negative => -1,
+                        Sign::Zero => continue,
+                    };
+                    let k = input.operand[arr.source[r as usize] as usize];
+                    match front.iter_mut().find(|e| e.0 == k) {
+                        Some(entry) => entry.1 += sigma,
+                        None => front.push((k, sigma)),
+                    }
+                }
+                front.retain(|e| e.1 != 0);
+                front.sort_unstable();
+                found[p] = Some(Sample {
+                    front,
+                    coincident: vec![(source, 1)],
+                });
+                progress = true;
+                break;
+            }
+        }
+        if found.iter().all(Option::is_some) {
+            return Ok(());
+        }
+        if !progress {
+            let p = found.iter().position(Option::is_none).unwrap_or(0);
+            return Err(BooleanError::Unsupported(format!(
+                "surface patch {p} has no sub-triangle wide enough to sample and no sampled \
+                 neighbour in its face"
+            )));
+        }
+    }
+}
+
+/// `Some(reverse)` when the patch `at`, with ray result `found`, bounds the result and is
+/// the one face kept of its coincident stack.
 #[allow(clippy::too_many_arguments)]
 fn decide(
     op: Operation,
@@ -316,8 +444,7 @@ fn decide(
     input: &Input,
     arr: &Arrangement,
     patch_of: &[u32],
-    patch: u32,
-    at: &SamplePoint,
+    at: &PatchAt,
     found: &Sample,
 ) -> Option<bool> {
     let own = input.operand[at.source as usize];
@@ -334,7 +461,7 @@ fn decide(
     if in_front == in_back {
         return None;
     }
-    if found.coincident.len() > 1 {
+    if let (true, Some(c)) = (found.coincident.len() > 1, at.c) {
         let lowest = (found.coincident.iter())
             .map(|&(t, _)| input.operand[t as usize])
             .min()
@@ -344,9 +471,9 @@ fn decide(
         }
         let first_patch = (found.coincident.iter())
             .filter(|&&(t, _)| input.operand[t as usize] == own)
-            .filter_map(|&(t, _)| patch_at(input, arr, patch_of, t, &at.c))
+            .filter_map(|&(t, _)| patch_at(input, arr, patch_of, t, &c))
             .min();
-        if first_patch.is_some_and(|first| first != patch) {
+        if first_patch.is_some_and(|first| first != at.patch) {
             return None;
         }
     }

@@ -9,7 +9,7 @@
 //! point whose `W` is exactly zero does not exist and is refused.
 
 use super::arith::Arith;
-use super::interval::Interval;
+use super::interval::{Interval, next_down, next_up};
 use super::predicates::{Formula, decide};
 use super::{Axis, Sign};
 
@@ -253,6 +253,38 @@ impl Point {
                 ]
             }
         }
+    }
+
+    /// A box certain to contain the exact point, `(min, max)`: the cached filter intervals
+    /// divided with outward rounding. Unbounded when the interval of `W` contains zero (a
+    /// nearly degenerate definition, where [`Point::approx`] may be far off).
+    pub fn enclosure(&self) -> (Point3, Point3) {
+        let filter = match self {
+            Point::Explicit(p) => return (*p, *p),
+            Point::Lpi(Lpi { filter, .. }) | Point::Tpi(Tpi { filter, .. }) => filter,
+        };
+        let unbounded = ([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]);
+        let w = &filter[3];
+        if !(w.lo() > 0.0 || w.hi() < 0.0) {
+            return unbounded;
+        }
+        let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+        for k in 0..3 {
+            let n = &filter[k];
+            let q = [
+                n.lo() / w.lo(),
+                n.lo() / w.hi(),
+                n.hi() / w.lo(),
+                n.hi() / w.hi(),
+            ];
+            if q.iter().any(|x| !x.is_finite()) {
+                return unbounded;
+            }
+            // Each quotient is within half an ulp of the true one: one step outward covers it.
+            lo[k] = next_down(q.iter().copied().fold(f64::INFINITY, f64::min));
+            hi[k] = next_up(q.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+        }
+        (lo, hi)
     }
 
     /// True when the point is defined as lying on the plane of a triangle whose vertices are

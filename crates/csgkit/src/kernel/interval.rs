@@ -110,14 +110,12 @@ impl Interval {
         self.lo * 0.5 + self.hi * 0.5
     }
 
-    /// Lower endpoint (tests only).
-    #[cfg(test)]
+    /// Lower endpoint.
     pub(crate) fn lo(&self) -> f64 {
         self.lo
     }
 
-    /// Upper endpoint (tests only).
-    #[cfg(test)]
+    /// Upper endpoint.
     pub(crate) fn hi(&self) -> f64 {
         self.hi
     }

@@ -1,0 +1,736 @@
+//! The **certify** stage: the result as f64 numbers is a valid solid, so it is a valid operand
+//! of the next boolean.
+//!
+//! # Contract
+//! In: the [`Rounded`] mesh of the assemble stage (exact except at the intersection points it
+//! rounded) and a way to re-run the exact arrangement on a triangle soup. Out: a mesh, as f64
+//! numbers,
+//! - in which no two faces share a point other than their common edges and vertices (the
+//!   semantics of [`self_intersections`](super::self_intersections));
+//! - with no exactly degenerate face and no two vertices at one position;
+//! - closed and consistently oriented.
+//!
+//! Every vertex ends within [`MAX_SNAP_LEVEL`] grid steps of where the exact result has it:
+//! rounding moves a vertex by at most half an ulp per coordinate, and snapping by at most
+//! `2^(MAX_SNAP_LEVEL − 1)` ulps of the largest coordinate magnitude, i.e. a displacement of at
+//! most `2^-29 · max |coordinate|` per coordinate. If that is not enough, the stage fails with
+//! [`BooleanError::NotCertified`] rather than return an invalid mesh.
+//!
+//! # Algorithm
+//! Iterative snap rounding, after Lazard & Valque, "Iterative snap rounding of triangle soups"
+//! (2025; CGAL 6.1's `autorefine_triangle_soup` with `apply_iterative_snap_rounding`), with
+//! csgkit's own arrangement as the exact re-refinement:
+//! 1. **Find problems** (`find_problems`): only faces with a moved vertex can differ from the
+//!    exact result, which has no crossing, so the check looks at those faces and at every face
+//!    whose box overlaps one of theirs: a [`Bvh`] over the moved faces, queried by every face,
+//!    then the exact pair test of the self-intersection check on that neighbourhood, the
+//!    exact degeneracy test, and bit-identical positions.
+//! 2. **Done** if there is none.
+//! 3. **Snap** the vertices of crossing and degenerate faces to a coarser grid, the multiples
+//!    of `2^level` ulps of the largest coordinate magnitude (exact: a power of two), `level`
+//!    growing by [`SNAP_LEVEL_STEP`] each round.
+//! 4. **Re-refine**: the snapped soup is one operand of a union under the positive winding
+//!    rule, computed exactly by the same pipeline (its crossing faces are intersected with
+//!    each other, folds that turned inside out are outside, coincident vertices are welded,
+//!    collapsed and degenerate faces dropped); its new intersection points are rounded, and
+//!    the loop goes back to 1 with those as the moved vertices.
+//!
+//! Where rounding folds nothing (nearly always), the stage is step 1 alone.
+//!
+//! # Complexity
+//! Step 1: a tree over the moved faces (few: those around intersection curves) and one
+//! query per face, then the exact test on the neighbourhood. Steps 3–4 run only when a
+//! problem is found, and cost one exact boolean of the result with itself.
+
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
+
+use crate::index::{Aabb, Bvh};
+use crate::kernel::Point3;
+use crate::mesh::{Mesh, MeshParts, apply_welding, weld_positions};
+
+use super::assemble::Rounded;
+use super::boolean::BooleanError;
+use super::intersect::Triangle;
+use super::self_intersect::pair_intersects;
+
+/// Snap levels grow by this many doublings of the grid each round.
+pub(crate) const SNAP_LEVEL_STEP: i32 = 4;
+
+/// How many f64 steps per coordinate re-rounding may move a vertex.
+pub(crate) const REROUND_STEPS: u32 = 2;
+
+/// Rounds of snapping and re-refinement on one grid before a coarser one is tried.
+pub(crate) const ROUNDS_PER_LEVEL: usize = 3;
+
+/// The coarsest snap grid: multiples of `2^MAX_SNAP_LEVEL` ulps of the largest coordinate
+/// magnitude (with a 53-bit significand, steps of `2^(MAX_SNAP_LEVEL − 52)` of it).
+pub(crate) const MAX_SNAP_LEVEL: i32 = 24;
+
+/// What certification did, for the statistics.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Certificate {
+    /// Vertices rounding moved in the output (intersection points not representable in f64).
+    pub rounded_vertices: usize,
+    /// Vertex moves to a coarser grid that removing crossings and degenerate faces took (a
+    /// vertex moved in two rounds counts twice).
+    pub snapped_vertices: usize,
+    /// The largest distance a snapped vertex moved, divided by the diagonal of the result's
+    /// bounding box (0 when nothing was snapped).
+    pub max_snap_displacement: f64,
+    /// Rounds of snapping and re-refinement (0 when rounding folded nothing).
+    pub rounds: usize,
+}
+
+/// What is wrong with a rounded mesh.
+#[derive(Debug, Default)]
+struct Problems {
+    /// Face pairs that cross.
+    crossing_pairs: usize,
+    /// Faces whose corners are exactly collinear (distinct positions).
+    degenerate_faces: usize,
+    /// Distinct vertices at the same position.
+    coincident_vertices: usize,
+    /// The vertices to snap: those of crossing and degenerate faces, sorted, without repeats.
+    to_snap: Vec<u32>,
+    /// Vertices at the position of another vertex.
+    coincident: Vec<u32>,
+}
+
+impl Problems {
+    fn is_empty(&self) -> bool {
+        self.crossing_pairs == 0 && self.degenerate_faces == 0 && self.coincident_vertices == 0
+    }
+}
+
+/// Certifies `rounded` (see the module docs). `re_refine(soup, suspects)` computes the exact
+/// union of a soup under the positive winding rule and rounds it; `suspects` are the
+/// positions of the soup's vertices that moved since it was last free of crossings, so only
+/// faces at those can cross.
+///
+/// # Errors
+/// [`BooleanError::NotCertified`] when the coarsest grid leaves a problem; any error of
+/// `re_refine` other than [`BooleanError::Unsupported`], which is retried on a coarser grid.
+pub(crate) fn certify(
+    rounded: Rounded,
+    mut re_refine: impl FnMut(&Mesh, &[Point3]) -> Result<Rounded, BooleanError>,
+) -> Result<(Mesh, Certificate), BooleanError> {
+    let mut certificate = Certificate {
+        rounded_vertices: rounded.moved.iter().filter(|&&m| m).count(),
+        ..Certificate::default()
+    };
+    let Rounded {
+        mut mesh,
+        mut moved,
+    } = rounded;
+    let mut level = 0;
+    let mut rounds_at_level = 0;
+    loop {
+        let problems = find_problems(&mesh, &moved);
+        if problems.is_empty() {
+            return Ok((mesh, certificate));
+        }
+        if !problems.coincident.is_empty() {
+            // Two exact points rounded to one f64 point: they are one vertex of the f64
+            // mesh; the faces between them collapse.
+            (mesh, moved) = merge_coincident(mesh, &moved);
+            continue;
+        }
+        // Each successful re-rounding clears the faces of one vertex and breaks none, so
+        // this repeats only while it helps.
+        let (count, displacement) = reround(&mut mesh, &moved, &problems);
+        if count > 0 {
+            certificate.record_snap(count, displacement);
+            continue;
+        }
+        let mut soup = mesh.clone();
+        if !problems.to_snap.is_empty() {
+            if rounds_at_level == ROUNDS_PER_LEVEL {
+                level += SNAP_LEVEL_STEP;
+                rounds_at_level = 0;
+            }
+            if level > MAX_SNAP_LEVEL {
+                return Err(BooleanError::NotCertified {
+                    crossing_pairs: problems.crossing_pairs,
+                    degenerate_faces: problems.degenerate_faces,
+                });
+            }
+            rounds_at_level += 1;
+            if level > 0 {
+                // The whole neighbourhood goes on the grid, not only the crossing faces:
+                // a face between a snapped and an unsnapped vertex tilts, and crosses its
+                // nearly coplanar neighbours.
+                let region = neighbourhood_vertices(&soup, &problems.to_snap);
+                let displacement = snap(&mut soup, &region, level);
+                certificate.record_snap(region.len(), displacement);
+            }
+        }
+        certificate.rounds += 1;
+        let suspects: Vec<Point3> = (problems.to_snap.iter())
+            .chain(&problems.coincident)
+            .map(|&v| soup.positions()[v as usize])
+            .collect();
+        let refined = re_refine(&soup, &suspects).and_then(|next| {
+            // The re-refinement's own arrangement decides exactly, but its input is a fold:
+            // its result is checked like any other before it replaces the mesh.
+            let balanced = crate::mesh::analyze_topology(&next.mesh).unbalanced_edges == 0;
+            if balanced {
+                Ok(next)
+            } else {
+                Err(BooleanError::Unsupported(
+                    "re-refinement left a hole".into(),
+                ))
+            }
+        });
+        let next = match refined {
+            Ok(next) => next,
+            Err(BooleanError::Cancelled) => return Err(BooleanError::Cancelled),
+            // Slivers too thin to sample in f64, or an operand the engine refuses: a coarser
+            // grid merges their vertices.
+            Err(_) if !problems.to_snap.is_empty() => {
+                rounds_at_level = ROUNDS_PER_LEVEL;
+                continue;
+            }
+            Err(_) => {
+                return Err(BooleanError::NotCertified {
+                    crossing_pairs: problems.crossing_pairs,
+                    degenerate_faces: problems.degenerate_faces,
+                });
+            }
+        };
+        mesh = with_source_provenance(next.mesh, &soup);
+        moved = next.moved;
+        if level > 0 {
+            // The new intersection points go on the same grid (Lazard & Valque): on a
+            // coarse grid, near-degenerate pieces collapse instead of shrinking further.
+            let new_points: Vec<u32> = (moved.iter().enumerate())
+                .filter(|&(_, &m)| m)
+                .map(|(v, _)| v as u32)
+                .collect();
+            let displacement = snap(&mut mesh, &new_points, level);
+            certificate.record_snap(new_points.len(), displacement);
+        }
+    }
+}
+
+impl Certificate {
+    fn record_snap(&mut self, vertices: usize, displacement: f64) {
+        self.snapped_vertices += vertices;
+        self.max_snap_displacement = self.max_snap_displacement.max(displacement);
+    }
+}
+
+/// Finds the crossing pairs, degenerate faces and coincident vertices among the faces with a
+/// moved vertex and the faces near them.
+fn find_problems(mesh: &Mesh, moved: &[bool]) -> Problems {
+    let corners = mesh.corners();
+    let suspects: Vec<u32> = (0..mesh.face_count())
+        .into_par_iter()
+        .filter(|&f| corners[3 * f..3 * f + 3].iter().any(|&v| moved[v as usize]))
+        .map(|f| f as u32)
+        .collect();
+    if suspects.is_empty() {
+        return Problems::default();
+    }
+    let near = faces_near(mesh.positions(), corners, &suspects, 0.0, None);
+    problems_among(mesh.positions(), corners, &near, &suspects)
+}
+
+/// The faces (of `within`, or of all) whose boxes overlap the box of one of `seeds` widened
+/// by `margin`, seeds included, sorted.
+fn faces_near(
+    positions: &[Point3],
+    corners: &[u32],
+    seeds: &[u32],
+    margin: f64,
+    within: Option<&[u32]>,
+) -> Vec<u32> {
+    let face_box = |f: usize| {
+        Aabb::from_points(
+            corners[3 * f..3 * f + 3]
+                .iter()
+                .map(|&v| &positions[v as usize]),
+        )
+    };
+    let widened = |f: usize| {
+        let b = face_box(f);
+        Aabb {
+            min: b.min.map(|x| x - margin),
+            max: b.max.map(|x| x + margin),
+        }
+    };
+    let tree = Bvh::build_with(seeds.len(), |i| widened(seeds[i] as usize));
+    let bounds = tree.bounds();
+    let test = |f: u32| {
+        let b = face_box(f as usize);
+        b.overlaps(&bounds) && tree.any_overlapping(&b, |_| true)
+    };
+    let mut near: Vec<u32> = match within {
+        Some(faces) => faces.iter().copied().filter(|&f| test(f)).collect(),
+        None => (0..(corners.len() / 3) as u32)
+            .into_par_iter()
+            .filter(|&f| test(f))
+            .collect(),
+    };
+    near.extend_from_slice(seeds);
+    near.sort_unstable();
+    near.dedup();
+    near
+}
+
+/// The problems of the faces `near` (sorted) that involve a face of `suspects` (sorted).
+fn problems_among(
+    positions: &[Point3],
+    corners: &[u32],
+    near: &[u32],
+    suspects: &[u32],
+) -> Problems {
+    let face = |f: usize| [corners[3 * f], corners[3 * f + 1], corners[3 * f + 2]];
+    let is_suspect = |f: u32| suspects.binary_search(&f).is_ok();
+    // The neighbourhood as its own soup, welded by position, so the pair test sees shared
+    // vertices the way a reader of the written file will.
+    let mut local_of: FxHashMap<[u64; 3], u32> = FxHashMap::default();
+    let mut local_vertex: FxHashMap<u32, u32> = FxHashMap::default();
+    let mut local_positions = Vec::new();
+    let mut coincident = Vec::new();
+    let key = |p: [f64; 3]| p.map(|x| (x + 0.0).to_bits());
+    let mut valid: Vec<Triangle> = Vec::with_capacity(near.len());
+    let mut degenerate = Vec::new();
+    for (i, &f) in near.iter().enumerate() {
+        let ids = face(f as usize).map(|v| {
+            *local_vertex.entry(v).or_insert_with(|| {
+                let p = positions[v as usize];
+                let next = local_positions.len() as u32;
+                let id = *local_of.entry(key(p)).or_insert(next);
+                if id == next {
+                    local_positions.push(p);
+                } else {
+                    coincident.push(v);
+                }
+                id
+            })
+        });
+        match Triangle::new(i as u32, ids, ids.map(|v| local_positions[v as usize])) {
+            Some(t) => valid.push(t),
+            None if ids[0] != ids[1] && ids[1] != ids[2] && ids[2] != ids[0] => degenerate.push(f),
+            None => {}
+        }
+    }
+    let marked: Vec<u32> = (valid.iter().enumerate())
+        .filter(|(_, t)| is_suspect(near[t.id() as usize]))
+        .map(|(i, _)| i as u32)
+        .collect();
+    let pairs: Vec<(u32, u32)> = (super::self_intersect::intersecting_pairs_of(&valid, &marked)
+        .into_iter())
+    .map(|(s, t)| {
+        let face = |i: u32| near[valid[i as usize].id() as usize];
+        (face(s), face(t))
+    })
+    .collect();
+    let mut to_snap: Vec<u32> = (pairs.iter())
+        .flat_map(|&(s, t)| [s, t])
+        .chain(degenerate.iter().copied())
+        .flat_map(|f| face(f as usize))
+        .collect();
+    to_snap.sort_unstable();
+    to_snap.dedup();
+    Problems {
+        crossing_pairs: pairs.len(),
+        degenerate_faces: degenerate.len(),
+        coincident_vertices: coincident.len(),
+        to_snap,
+        coincident,
+    }
+}
+
+/// Moves each rounded vertex of a problem face to one of the f64 points around it (each
+/// coordinate up to [`REROUND_STEPS`] steps down or up; nearest first) where its faces have no
+/// problem with the faces around them, if there is one. Most folds are a sliver whose rounded
+/// corner landed on the wrong side of the opposite edge by an ulp: the other rounding fixes it
+/// without moving anything else. Returns how many vertices moved and the largest move
+/// relative to the bounding box diagonal.
+fn reround(mesh: &mut Mesh, moved: &[bool], problems: &Problems) -> (usize, f64) {
+    let vertices: Vec<u32> = (problems.to_snap.iter())
+        .copied()
+        .filter(|&v| moved[v as usize])
+        .collect();
+    if vertices.is_empty() {
+        return (0, 0.0);
+    }
+    let mut parts = std::mem::take(mesh).into_parts();
+    let corners = std::mem::take(&mut parts.corners);
+    let positions = &mut parts.positions;
+    let mut faces_of: FxHashMap<u32, Vec<u32>> =
+        vertices.iter().map(|&v| (v, Vec::new())).collect();
+    for (f, c) in corners.chunks_exact(3).enumerate() {
+        for v in c {
+            if let Some(faces) = faces_of.get_mut(v) {
+                faces.push(f as u32);
+            }
+        }
+    }
+    let largest = (positions.iter().flatten()).fold(0.0f64, |m, x| m.max(x.abs()));
+    // Two ulps of the largest coordinate: more than any candidate moves a face's box.
+    let margin = 2.0 * 2f64.powi(largest.log2().floor() as i32 - 52);
+    let seeds: Vec<u32> = {
+        let mut all: Vec<u32> = faces_of.values().flatten().copied().collect();
+        all.sort_unstable();
+        all.dedup();
+        all
+    };
+    let region = faces_near(positions, &corners, &seeds, margin, None);
+    let diagonal = diagonal_of(positions);
+    let (mut count, mut largest_move) = (0, 0.0f64);
+    for v in vertices {
+        let around = &faces_of[&v];
+        let local = faces_near(positions, &corners, around, margin, Some(&region));
+        let corners_of = |f: u32| {
+            let c = &corners[3 * f as usize..3 * f as usize + 3];
+            [c[0], c[1], c[2]]
+        };
+        // The faces near v that do not use it keep their shape while v moves.
+        let others: Vec<Triangle> = (local.iter())
+            .filter(|f| around.binary_search(f).is_err())
+            .filter_map(|&f| {
+                let ids = corners_of(f);
+                Triangle::new(f, ids, ids.map(|u| positions[u as usize]))
+            })
+            .collect();
+        let fine = |positions: &[Point3]| {
+            let p = positions[v as usize];
+            let coincident = (local.iter().flat_map(|&f| corners_of(f)))
+                .any(|u| u != v && positions[u as usize] == p);
+            if coincident {
+                return false;
+            }
+            let mine: Option<Vec<Triangle>> = (around.iter())
+                .map(|&f| {
+                    let ids = corners_of(f);
+                    Triangle::new(f, ids, ids.map(|u| positions[u as usize]))
+                })
+                .collect();
+            let Some(mine) = mine else { return false };
+            let crossing = (mine.iter().enumerate()).any(|(i, a)| {
+                others
+                    .iter()
+                    .chain(&mine[i + 1..])
+                    .any(|b| pair_intersects(a, b))
+            });
+            !crossing
+        };
+        if fine(positions) {
+            continue;
+        }
+        let start = positions[v as usize];
+        let found = neighbours(start).into_iter().find(|&q| {
+            positions[v as usize] = q;
+            fine(positions)
+        });
+        match found {
+            Some(q) => {
+                count += 1;
+                let d = distance(q, start);
+                largest_move = largest_move.max(d);
+            }
+            None => positions[v as usize] = start,
+        }
+    }
+    parts.corners = corners;
+    *mesh = Mesh::from_parts(parts).expect("re-rounding changes positions only");
+    (
+        count,
+        if diagonal > 0.0 {
+            largest_move / diagonal
+        } else {
+            0.0
+        },
+    )
+}
+
+/// The f64 points around `p` up to [`REROUND_STEPS`] steps away in each coordinate, nearest
+/// (in steps, then in coordinates changed) first.
+fn neighbours(p: Point3) -> Vec<Point3> {
+    let n = REROUND_STEPS as i32;
+    let mut out: Vec<(i32, i32, Point3)> = Vec::new();
+    for dx in -n..=n {
+        for dy in -n..=n {
+            for dz in -n..=n {
+                let steps = [dx, dy, dz];
+                if steps == [0, 0, 0] {
+                    continue;
+                }
+                let q = [0, 1, 2].map(|k| step_by(p[k], steps[k]));
+                let far = steps.iter().map(|s| s.abs()).max().unwrap_or(0);
+                let changed = steps.iter().filter(|&&s| s != 0).count() as i32;
+                out.push((far, changed, q));
+            }
+        }
+    }
+    out.sort_by_key(|e| (e.0, e.1));
+    out.into_iter().map(|e| e.2).collect()
+}
+
+/// `x` moved by `steps` f64 steps (up when positive).
+fn step_by(x: f64, steps: i32) -> f64 {
+    let to = if steps > 0 {
+        f64::INFINITY
+    } else {
+        f64::NEG_INFINITY
+    };
+    (0..steps.abs()).fold(x, |x, _| next_toward(x, to))
+}
+
+/// The next f64 after `x` towards `to`.
+fn next_toward(x: f64, to: f64) -> f64 {
+    if x == to || !x.is_finite() {
+        return x;
+    }
+    if x == 0.0 {
+        return f64::from_bits(1).copysign(to);
+    }
+    let bits = x.to_bits();
+    if (x < to) == (x > 0.0) {
+        f64::from_bits(bits + 1)
+    } else {
+        f64::from_bits(bits - 1)
+    }
+}
+
+/// The distance from `p` to `q`, without underflow for moves of a few subnormal steps.
+fn distance(p: Point3, q: Point3) -> f64 {
+    let d = [0, 1, 2].map(|k| (q[k] - p[k]).abs());
+    let largest = d.iter().copied().fold(0.0f64, f64::max);
+    if largest == 0.0 {
+        return 0.0;
+    }
+    largest * d.iter().map(|x| (x / largest).powi(2)).sum::<f64>().sqrt()
+}
+
+/// The diagonal of the bounding box of `positions`.
+fn diagonal_of(positions: &[Point3]) -> f64 {
+    let bounds = Aabb::from_points(positions.iter());
+    (0..3)
+        .map(|k| (bounds.max[k] - bounds.min[k]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// `mesh` with the vertices at one position merged and the faces that collapse dropped
+/// (closedness is kept: a collapsed triangle's two remaining sides cancel), and the moved
+/// flags carried over, merged vertices marked as moved so their faces are checked again.
+fn merge_coincident(mesh: Mesh, moved: &[bool]) -> (Mesh, Vec<bool>) {
+    let welding = weld_positions(mesh.positions());
+    let mut merged_moved = vec![false; welding.welded_count()];
+    for (v, &w) in welding.remap.iter().enumerate() {
+        let merged = welding.representatives[w as usize] != v as u32;
+        merged_moved[w as usize] |= moved[v] || merged;
+        merged_moved[welding.remap[welding.representatives[w as usize] as usize] as usize] |=
+            merged;
+    }
+    let mut parts = apply_welding(&mesh, &welding).into_parts();
+    let keep: Vec<bool> = (parts.corners.chunks_exact(3))
+        .map(|c| c[0] != c[1] && c[1] != c[2] && c[2] != c[0])
+        .collect();
+    parts.corners = (parts.corners.chunks_exact(3).zip(&keep))
+        .filter(|(_, k)| **k)
+        .flat_map(|(c, _)| c.iter().copied())
+        .collect();
+    if let Some(provenance) = parts.face_provenance.as_mut() {
+        *provenance = (provenance.iter().zip(&keep))
+            .filter(|(_, k)| **k)
+            .map(|(p, _)| *p)
+            .collect();
+    }
+    let mesh = Mesh::from_parts(parts).expect("welding keeps indices in range");
+    (mesh, merged_moved)
+}
+
+/// The vertices of the faces whose boxes overlap a face around one of `vertices`.
+fn neighbourhood_vertices(mesh: &Mesh, vertices: &[u32]) -> Vec<u32> {
+    let corners = mesh.corners();
+    let seeds: Vec<u32> = (0..mesh.face_count() as u32)
+        .filter(|&f| {
+            let c = &corners[3 * f as usize..3 * f as usize + 3];
+            c.iter().any(|v| vertices.binary_search(v).is_ok())
+        })
+        .collect();
+    let near = faces_near(mesh.positions(), corners, &seeds, 0.0, None);
+    let mut out: Vec<u32> = (near.iter())
+        .flat_map(|&f| corners[3 * f as usize..3 * f as usize + 3].iter().copied())
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Moves `vertices` of `mesh` to the nearest multiple of `2^level` ulps of the largest
+/// coordinate magnitude; returns the largest displacement relative to the diagonal of the
+/// mesh's bounding box.
+fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32) -> f64 {
+    let mut parts = std::mem::take(mesh).into_parts();
+    let largest = (parts.positions.iter().flatten()).fold(0.0f64, |m, x| m.max(x.abs()));
+    let diagonal = diagonal_of(&parts.positions);
+    // ulp(largest) = 2^(exponent − 52); the grid step is 2^level of those, a power of two,
+    // so x / step, its rounding and the product back are exact.
+    let exponent = if largest > 0.0 {
+        largest.log2().floor() as i32
+    } else {
+        0
+    };
+    let step = 2f64.powi(exponent - 52 + level);
+    let mut displacement = 0.0f64;
+    for &v in vertices {
+        let p = &mut parts.positions[v as usize];
+        let q = p.map(|x| (x / step).round() * step);
+        let d = distance(q, *p);
+        displacement = displacement.max(d);
+        *p = q;
+    }
+    *mesh = Mesh::from_parts(parts).expect("snapping changes positions only");
+    if diagonal > 0.0 {
+        displacement / diagonal
+    } else {
+        0.0
+    }
+}
+
+/// `refined` (a boolean of `soup` alone, whose provenance names faces of `soup`) with the
+/// provenance of those faces: the operand and input face they came from.
+fn with_source_provenance(refined: Mesh, soup: &Mesh) -> Mesh {
+    let Some(source) = soup.parts().face_provenance.as_deref() else {
+        return refined;
+    };
+    let mut parts: MeshParts = refined.into_parts();
+    if let Some(provenance) = parts.face_provenance.as_mut() {
+        for p in provenance.iter_mut() {
+            *p = source[p.face.index()];
+        }
+    }
+    Mesh::from_parts(parts).expect("provenance only")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{FaceId, OperandId, Provenance};
+
+    fn cube(min: f64, max: f64) -> Mesh {
+        crate::csg::primitives::cuboid([min; 3], [max; 3])
+    }
+
+    #[test]
+    fn exact_meshes_have_no_problem() {
+        let mesh = cube(0.0, 1.0);
+        let moved = vec![true; mesh.vertex_count()];
+        assert!(find_problems(&mesh, &moved).is_empty());
+    }
+
+    #[test]
+    fn a_crossing_near_a_moved_vertex_is_found() {
+        // Two cubes in one mesh, overlapping: every crossing involves a moved vertex of the
+        // second one.
+        let (a, b) = (cube(0.0, 1.0), cube(0.5, 1.5));
+        let mut positions = a.positions().to_vec();
+        positions.extend_from_slice(b.positions());
+        let triangles: Vec<[u32; 3]> = (a.faces().map(|f| [f[0], f[1], f[2]]))
+            .chain(b.faces().map(|f| [f[0] + 8, f[1] + 8, f[2] + 8]))
+            .collect();
+        let mesh = Mesh::from_triangles(positions, &triangles).expect("indices below 16");
+        let mut moved = vec![false; 16];
+        moved[8..].iter_mut().for_each(|m| *m = true);
+        let problems = find_problems(&mesh, &moved);
+        assert!(problems.crossing_pairs > 0);
+        assert!(
+            problems.to_snap.iter().any(|&v| v < 8) && problems.to_snap.iter().any(|&v| v >= 8)
+        );
+        // Nothing moved: nothing to look at.
+        assert!(find_problems(&mesh, &[false; 16]).is_empty());
+    }
+
+    #[test]
+    fn collinear_and_coincident_vertices_are_found() {
+        let positions = vec![
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let mesh = Mesh::from_triangles(positions, &[[0, 1, 2], [0, 3, 4]]).expect("in range");
+        let problems = find_problems(&mesh, &[false, true, false, true, false]);
+        assert_eq!(problems.degenerate_faces, 1);
+        assert_eq!(problems.coincident_vertices, 1);
+    }
+
+    #[test]
+    fn a_corner_rounded_across_an_edge_is_rounded_back() {
+        // Two triangles on one side of their common edge: the second's corner, rounded to
+        // the smallest positive y, folds it over the first. A step of one ulp unfolds it.
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 1.0, 0.0],
+            [0.5, f64::from_bits(1), 0.0],
+        ];
+        let mut mesh = Mesh::from_triangles(positions, &[[0, 1, 2], [1, 0, 3]]).expect("in range");
+        let moved = [false, false, false, true];
+        let problems = find_problems(&mesh, &moved);
+        assert_eq!(problems.crossing_pairs, 1);
+        let (count, displacement) = reround(&mut mesh, &moved, &problems);
+        assert_eq!(count, 1);
+        assert!(displacement > 0.0 && displacement < 1e-15);
+        assert!(find_problems(&mesh, &moved).is_empty());
+    }
+
+    #[test]
+    fn coincident_vertices_merge_and_collapsed_faces_go() {
+        let positions = vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let mesh = Mesh::from_triangles(positions, &[[0, 1, 2], [0, 2, 3]]).expect("in range");
+        let (merged, moved) = merge_coincident(mesh, &[false, false, true, false]);
+        assert_eq!(merged.vertex_count(), 3);
+        assert_eq!(merged.face_count(), 1);
+        assert_eq!(moved, [false, true, false]);
+    }
+
+    #[test]
+    fn snapping_is_exact_and_bounded() {
+        let mut mesh = Mesh::from_triangles(
+            vec![[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            &[[0, 1, 2]],
+        )
+        .expect("in range");
+        let d = snap(&mut mesh, &[0], MAX_SNAP_LEVEL);
+        let step = 2f64.powi(MAX_SNAP_LEVEL - 52);
+        for x in mesh.positions()[0] {
+            assert_eq!((x / step).fract(), 0.0, "{x} is on the grid");
+        }
+        assert!(d > 0.0 && d <= step * 3f64.sqrt() / 2.0 / 2f64.sqrt());
+    }
+
+    #[test]
+    fn provenance_is_carried_through_a_re_refinement() {
+        let mut soup = cube(0.0, 1.0).into_parts();
+        let source: Vec<Provenance> = (0..12)
+            .map(|f| Provenance {
+                operand: OperandId::new(1),
+                face: FaceId::new(100 + f),
+            })
+            .collect();
+        soup.face_provenance = Some(source);
+        let soup = Mesh::from_parts(soup).expect("one provenance per face");
+        let mut refined = cube(0.0, 1.0).into_parts();
+        refined.face_provenance = Some(
+            (0..12)
+                .map(|f| Provenance {
+                    operand: OperandId::new(0),
+                    face: FaceId::new(11 - f),
+                })
+                .collect(),
+        );
+        let refined = Mesh::from_parts(refined).expect("one provenance per face");
+        let carried = with_source_provenance(refined, &soup);
+        let first = carried.parts().face_provenance.as_ref().expect("kept")[0];
+        assert_eq!(first.operand, OperandId::new(1));
+        assert_eq!(first.face, FaceId::new(111));
+    }
+}
