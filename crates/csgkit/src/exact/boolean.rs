@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use crate::mesh::{FaceId, Mesh};
+use crate::mesh::{FaceId, Mesh, PolygonError};
 
 use super::{assemble, broad, classify, ingest, select, subdivide};
 
@@ -142,6 +142,18 @@ pub enum BooleanError {
         operand: usize,
         /// The vertex index in that operand.
         vertex: u32,
+    },
+    /// A polygon of the operand cannot be triangulated: its projection overlaps itself, or it
+    /// has zero area (see [`PolygonError`], which names the face).
+    ///
+    /// *How to fix*: split the face into simple polygons, or remove it if it has no area
+    /// (`csgkit check` lists such faces).
+    #[error("operand {operand}: {error}")]
+    InvalidPolygon {
+        /// The operand.
+        operand: usize,
+        /// The face and what is wrong with it.
+        error: PolygonError,
     },
     /// Some edges are not used equally often in both directions: the operand has holes or
     /// inconsistently oriented faces, so it does not bound a solid.

@@ -6,8 +6,10 @@
 //! - positions of all operands are welded together (bit-identical coordinates, `-0.0` equal to
 //!   `0.0`), so a vertex two operands share has one id and the intersect stage recognises
 //!   shared vertices by id;
-//! - every face is fan-triangulated, keeping its face id, and exactly degenerate triangles
-//!   (collinear corners, by the exact orientation test) are dropped;
+//! - every face is triangulated by the mesh module's exact triangulator
+//!   ([`triangulate_faces`]: a polygon whose projection overlaps itself is an error), keeping
+//!   its face id, and exactly degenerate triangles (collinear corners, by the exact orientation
+//!   test) are dropped;
 //! - the triangles of each operand are contiguous and each operand is closed and consistently
 //!   oriented: every undirected edge is used as often in each direction (non-manifold but
 //!   balanced edges, as in two cubes sharing an edge, are solids too), with a non-negative
@@ -28,7 +30,7 @@ use rayon::prelude::*;
 
 use crate::index::Aabb;
 use crate::kernel::Point3;
-use crate::mesh::{FaceId, Mesh, weld_positions};
+use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces, weld_positions};
 
 use super::boolean::{BooleanError, ERROR_EXAMPLES};
 use super::intersect::Triangle;
@@ -73,8 +75,8 @@ impl Input {
 /// Builds the [`Input`] of `operands`.
 ///
 /// # Errors
-/// [`BooleanError::NonFinite`], [`BooleanError::NotClosed`] or [`BooleanError::Inverted`],
-/// naming the first operand that fails.
+/// [`BooleanError::NonFinite`], [`BooleanError::InvalidPolygon`], [`BooleanError::NotClosed`]
+/// or [`BooleanError::Inverted`], naming the first operand that fails.
 pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     for (k, mesh) in operands.iter().enumerate() {
         if let Some(v) = mesh
@@ -107,7 +109,8 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     for (k, mesh) in operands.iter().enumerate() {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
         let start = triangles.len();
-        add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles);
+        add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles)
+            .map_err(|error| BooleanError::InvalidPolygon { operand: k, error })?;
         operand.extend(std::iter::repeat_n(k as u32, triangles.len() - start));
         vertex_offset += mesh.vertex_count();
         operand_starts.push(triangles.len() as u32);
@@ -144,8 +147,8 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     Ok(input)
 }
 
-/// Appends the non-degenerate fan triangles of one operand over the welded vertices (`remap`
-/// maps its vertices to welded ids) and their faces; triangle meshes in parallel, straight
+/// Appends the non-degenerate triangles of one operand ([`triangulate_faces`]) over the welded
+/// vertices (`remap` maps its vertices to welded ids) and their faces, in parallel, straight
 /// into the output vectors.
 fn add_operand_triangles(
     mesh: &Mesh,
@@ -153,23 +156,17 @@ fn add_operand_triangles(
     positions: &[Point3],
     faces: &mut Vec<FaceId>,
     triangles: &mut Vec<Triangle>,
-) {
+) -> Result<(), PolygonError> {
     let make = |f: FaceId, corners: [u32; 3]| {
         let ids = corners.map(|v| remap[v as usize]);
         Triangle::new(0, ids, ids.map(|v| positions[v as usize])).map(|t| (f, t))
     };
-    if mesh.is_triangle_mesh() {
-        let found = (mesh.corners().par_chunks_exact(3).enumerate())
-            .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]));
-        let mut both = (std::mem::take(faces), std::mem::take(triangles));
-        both.par_extend(found);
-        (*faces, *triangles) = both;
-    } else {
-        for (f, t) in mesh.fan_triangles().filter_map(|(f, c)| make(f, c)) {
-            faces.push(f);
-            triangles.push(t);
-        }
-    }
+    let triangulation = triangulate_faces(mesh)?;
+    let found = triangulation.par_iter().filter_map(|(f, c)| make(f, c));
+    let mut both = (std::mem::take(faces), std::mem::take(triangles));
+    both.par_extend(found);
+    (*faces, *triangles) = both;
+    Ok(())
 }
 
 /// The first vertex index of each operand in the concatenated positions.

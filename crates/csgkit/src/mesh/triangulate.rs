@@ -168,6 +168,13 @@ impl Triangulation<'_> {
     pub fn iter(&self) -> impl ExactSizeIterator<Item = (FaceId, [u32; 3])> + '_ {
         (0..self.len()).map(|t| (self.face(t), self.triangle(t)))
     }
+
+    /// [`iter`](Self::iter) in parallel.
+    pub(crate) fn par_iter(&self) -> impl IndexedParallelIterator<Item = (FaceId, [u32; 3])> + '_ {
+        (0..self.len())
+            .into_par_iter()
+            .map(|t| (self.face(t), self.triangle(t)))
+    }
 }
 
 /// Why a polygon's projection is not simple.
