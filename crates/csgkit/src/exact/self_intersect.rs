@@ -681,15 +681,15 @@ mod tests {
 
     #[test]
     fn self_overlapping_polygons_are_reported_and_zero_area_ones_left_out() {
-        // Face 0: an L hexagon starting at its reflex corner (its fan would overlap itself).
-        // Face 1: a bow tie. Face 2: four collinear corners.
+        // Face 0: an L hexagon starting at (2, 0), whose fan would overlap itself. Face 1: a
+        // bow tie. Face 2: four collinear corners.
         let positions = vec![
+            [2.0, 0.0, 0.0],
+            [2.0, 1.0, 0.0],
             [1.0, 1.0, 0.0],
             [1.0, 2.0, 0.0],
             [0.0, 2.0, 0.0],
             [0.0, 0.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [2.0, 1.0, 0.0],
             [5.0, 0.0, 0.0],
             [7.0, 2.0, 0.0],
             [7.0, 0.0, 0.0],

@@ -263,14 +263,15 @@ impl PolygonError {
 /// use csgkit::mesh::triangulate_faces;
 /// use csgkit::{Mesh, MeshParts};
 ///
-/// // An L-shaped hexagon: not convex, so a fan from its first corner would leave it.
+/// // An L-shaped hexagon starting at (2, 0): its fan would leave it, as the fan triangle
+/// // (2, 0), (1, 1), (1, 2) is clockwise.
 /// let positions = vec![
 ///     [0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0],
 ///     [1.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 2.0, 0.0],
 /// ];
 /// let mesh = Mesh::from_parts(MeshParts {
 ///     positions,
-///     corners: vec![3, 4, 5, 0, 1, 2],
+///     corners: vec![1, 2, 3, 4, 5, 0],
 ///     face_starts: Some(vec![0, 6]),
 ///     ..MeshParts::default()
 /// })?;

@@ -41,14 +41,14 @@ fn polygon(points: &[[f64; 2]]) -> Mesh {
 
 #[test]
 fn non_convex_polygons_are_written_as_their_triangles() {
-    // An L hexagon starting at its reflex corner: its fan would cover area outside it.
+    // An L hexagon starting at (2, 0): its fan would cover area outside it.
     let l = [
+        [2.0, 0.0],
+        [2.0, 1.0],
         [1.0, 1.0],
         [1.0, 2.0],
         [0.0, 2.0],
         [0.0, 0.0],
-        [2.0, 0.0],
-        [2.0, 1.0],
     ];
     let mut out = Vec::new();
     write(&polygon(&l), Encoding::Ascii, &mut out).unwrap();

@@ -148,9 +148,10 @@ fn convex_quad_keeps_the_fan_with_its_diagonal_marked() {
 
 #[test]
 fn l_hexagon_gets_four_triangles_inside() {
-    // Starting at the reflex corner (1, 1), whose fan would leave the polygon.
+    // Starting at (2, 0), whose fan would leave the polygon: its triangle (2, 0), (1, 1),
+    // (1, 2) is clockwise.
     let mut points = L_HEXAGON.to_vec();
-    points.rotate_left(3);
+    points.rotate_left(1);
     check_polygon(&points).unwrap();
 }
 
