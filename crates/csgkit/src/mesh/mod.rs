@@ -50,7 +50,7 @@ mod report;
 #[cfg(test)]
 mod test_meshes;
 mod topology;
-mod triangulate;
+pub mod triangulate;
 pub(crate) mod union_find;
 mod validation;
 mod weld;
