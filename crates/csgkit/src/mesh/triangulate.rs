@@ -93,6 +93,14 @@ struct Polygons {
 }
 
 impl Polygons {
+    fn with_capacity(n: usize) -> Polygons {
+        Polygons {
+            triangles: Vec::with_capacity(n),
+            faces: Vec::with_capacity(n),
+            edge_masks: Vec::with_capacity(n),
+        }
+    }
+
     fn push(&mut self, face: FaceId, triangle: [u32; 3], mask: u8) {
         self.triangles.push(triangle);
         self.faces.push(face);
@@ -305,11 +313,8 @@ pub fn triangulate_faces_partial(mesh: &Mesh) -> (Triangulation<'_>, Vec<Polygon
             let range = b * BLOCK..faces.min((b + 1) * BLOCK);
             let corners = mesh.face_range(FaceId::new(range.start)).start
                 ..mesh.face_range(FaceId::new(range.end - 1)).end;
-            let mut out = Polygons::default();
-            let capacity = corners.len() - 2 * range.len();
-            out.triangles.reserve(capacity);
-            out.faces.reserve(capacity);
-            out.edge_masks.reserve(capacity);
+            // n - 2 triangles per face of n corners, fewer only for merged corners or errors.
+            let mut out = Polygons::with_capacity(corners.len() - 2 * range.len());
             let mut errors = Vec::new();
             for f in range.map(FaceId::new) {
                 if let Err(e) = triangulate_face(mesh.positions(), mesh.face(f), f, &mut out) {
@@ -319,7 +324,7 @@ pub fn triangulate_faces_partial(mesh: &Mesh) -> (Triangulation<'_>, Vec<Polygon
             (out, errors)
         })
         .collect();
-    let mut all = Polygons::default();
+    let mut all = Polygons::with_capacity(blocks.iter().map(|(b, _)| b.triangles.len()).sum());
     let mut errors = Vec::new();
     for (block, block_errors) in blocks {
         all.append(block);
