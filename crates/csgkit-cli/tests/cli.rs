@@ -101,6 +101,26 @@ fn check_reports_self_intersecting_faces() {
 }
 
 #[test]
+fn check_reports_self_overlapping_polygons() {
+    // A closed mesh of two bow ties, each the other reversed: balanced edges, but neither
+    // polygon is simple in its projection.
+    let obj = "v 0 0 0\nv 2 2 0\nv 2 0 0\nv 0 2 0\nf 1 2 3 4\nf 4 3 2 1\n";
+    let path = temp_file("bowtie", "bowtie.obj", obj);
+    let path = path.to_str().expect("utf-8 temp path");
+    let output = csgkit(&["check", "--json", path]);
+    let json: serde_json::Value =
+        serde_json::from_slice(&output.stdout).expect("stdout is one JSON object");
+    assert_eq!(json["invalid_polygons"][1]["face"], 1);
+    let problem = json["invalid_polygons"][0]["problem"]
+        .as_str()
+        .unwrap_or("");
+    assert!(problem.contains("face 0 overlaps itself"), "{problem}");
+    let text = String::from_utf8_lossy(&csgkit(&["check", path]).stdout).into_owned();
+    assert!(text.contains("invalid polygons:"), "{text}");
+    assert!(text.contains("2 (first: face 0 overlaps itself"), "{text}");
+}
+
+#[test]
 fn info_prints_format_counts_and_box() {
     let output = csgkit(&["info", &cube()]);
     assert_eq!(code(&output), Some(0), "{output:?}");

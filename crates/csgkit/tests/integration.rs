@@ -16,6 +16,9 @@ mod exact_real;
 mod io_formats;
 // Truncated, corrupted and random bytes make no reader panic.
 mod io_fuzz;
+// Non-convex, collinear and self-overlapping polygons: the triangulator, the self-intersection
+// check and exact booleans of polygon solids.
+mod polygons;
 // Every shared data mesh analysed: topology and measures agree with the manifest.
 mod real_data;
 // The orthogonal engine: design vectors E1-E10 and R1-R6.

@@ -77,9 +77,9 @@ pub fn exact_volume(mesh: &csgkit::Mesh) -> num_rational::BigRational {
     volume6 / Q::from_integer(6.into())
 }
 
-/// The area of `mesh`, exactly, when every triangle lies in an axis-aligned plane (its
-/// normal has one non-zero component, whose absolute value is twice its area); otherwise
-/// the first triangle that does not, with its corners.
+/// The area of `mesh`, exactly, when every triangle of its faces lies in an axis-aligned plane
+/// (its normal has one non-zero component, whose absolute value is twice its area); otherwise
+/// the first face that does not, with its corners, or the face that cannot be triangulated.
 ///
 /// Boxes and their unions have only such faces. An output vertex that is a rounded
 /// intersection point keeps the coordinate of its plane (any f64, an integer in particular, is
@@ -90,7 +90,8 @@ pub fn axis_aligned_area(mesh: &csgkit::Mesh) -> Result<num_rational::BigRationa
     use num_traits::{Signed, Zero};
     let q = |x: f64| Q::from_float(x).expect("finite coordinate");
     let mut area2 = Q::zero();
-    for (f, corners) in mesh.fan_triangles() {
+    let triangles = csgkit::mesh::triangulate_faces(mesh).map_err(|e| e.to_string())?;
+    for (f, corners) in triangles.iter() {
         let [a, b, c] = corners.map(|v| mesh.positions()[v as usize].map(q));
         let u: [Q; 3] = std::array::from_fn(|i| &b[i] - &a[i]);
         let v: [Q; 3] = std::array::from_fn(|i| &c[i] - &a[i]);

@@ -3,8 +3,11 @@
 //! Runs [`csgkit::mesh::analyze`] and the exact [`csgkit::self_intersections`] check, and
 //! prints a table, or with `--json` one JSON object with the file, its format, every field of
 //! [`csgkit::mesh::MeshReport`] (non-finite numbers as `null`) and the self-intersection
-//! counts (`selfint_pairs`, `selfint_faces`, and the first pairs in `selfint_first_pairs`). Exit status 0 when the mesh is a valid solid (closed and consistently oriented;
-//! non-manifold edges allowed), 1 when it is not; errors exit 2 through `main`.
+//! counts (`selfint_pairs`, `selfint_faces`, and the first pairs in `selfint_first_pairs`),
+//! and the polygons that cannot be triangulated because their projection overlaps itself
+//! (`invalid_polygons`, each with its `face` and `problem`). Exit status 0 when the mesh is a
+//! valid solid (closed and consistently oriented; non-manifold edges allowed), 1 when it is
+//! not; errors exit 2 through `main`.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -40,6 +43,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<ExitCode> {
             object.insert("selfint_pairs".into(), crossings.pair_count().into());
             object.insert("selfint_faces".into(), crossings.face_count().into());
             object.insert("selfint_first_pairs".into(), first_pairs(&crossings).into());
+            object.insert("invalid_polygons".into(), invalid_polygons(&crossings));
         }
         format!("{json}\n")
     } else {
@@ -75,7 +79,7 @@ fn table(
     let bbox = r.measures.bbox.map_or("none".into(), |b| {
         format!("{} .. {}", point(b.min), point(b.max))
     });
-    let rows: [(&str, String); 27] = [
+    let rows: [(&str, String); 28] = [
         ("file", file.into()),
         ("format", format.into()),
         (
@@ -88,7 +92,7 @@ fn table(
         (
             "faces",
             format!(
-                "{} ({} triangles after fan split, {} polygons)",
+                "{} ({} triangles when split, {} polygons)",
                 r.faces, r.triangles, r.polygons
             ),
         ),
@@ -121,6 +125,7 @@ fn table(
             format!("{} (fewer than 3 distinct vertices)", t.excluded_faces),
         ),
         ("self-intersections", self_intersection_summary(crossings)),
+        ("invalid polygons", invalid_polygon_summary(crossings)),
         ("volume", r.measures.volume.to_string()),
         ("area", r.measures.area.to_string()),
         ("bbox", bbox),
@@ -164,7 +169,7 @@ fn first_pairs(crossings: &SelfIntersections) -> Vec<[u32; 2]> {
 
 /// "none", or the counts and the first pairs.
 fn self_intersection_summary(crossings: &SelfIntersections) -> String {
-    if crossings.is_empty() {
+    if crossings.pairs.is_empty() {
         return "none".into();
     }
     let listed: Vec<String> = first_pairs(crossings)
@@ -177,4 +182,23 @@ fn self_intersection_summary(crossings: &SelfIntersections) -> String {
         crossings.face_count(),
         listed.join(", ")
     )
+}
+
+/// The polygons that cannot be triangulated, as `{"face": f, "problem": "..."}` objects.
+fn invalid_polygons(crossings: &SelfIntersections) -> serde_json::Value {
+    (crossings.invalid_polygons.iter())
+        .map(|e| serde_json::json!({ "face": e.face().get(), "problem": e.to_string() }))
+        .collect()
+}
+
+/// "none", or how many polygons overlap themselves and the first few problems.
+fn invalid_polygon_summary(crossings: &SelfIntersections) -> String {
+    let invalid = &crossings.invalid_polygons;
+    if invalid.is_empty() {
+        return "none".into();
+    }
+    let listed: Vec<String> = (invalid.iter().take(LISTED_PAIRS))
+        .map(ToString::to_string)
+        .collect();
+    format!("{} (first: {})", invalid.len(), listed.join("; "))
 }

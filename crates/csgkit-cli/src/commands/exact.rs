@@ -135,6 +135,7 @@ fn compute(op: Operation, args: &ExactArgs, meshes: &[Mesh]) -> anyhow::Result<B
 fn name_operand(err: BooleanError, inputs: &[PathBuf]) -> anyhow::Error {
     let operand = match err {
         BooleanError::NonFinite { operand, .. }
+        | BooleanError::InvalidPolygon { operand, .. }
         | BooleanError::NotClosed { operand, .. }
         | BooleanError::Inverted { operand, .. } => inputs.get(operand),
         _ => None,

@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use crate::kernel::Point3;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, PolygonError};
 
 use super::assemble::Rounded;
 use super::winding::{self, WindingRule};
@@ -167,6 +167,18 @@ pub enum BooleanError {
         operand: usize,
         /// The vertex index in that operand.
         vertex: u32,
+    },
+    /// A polygon of the operand cannot be triangulated: its projection overlaps itself, or it
+    /// has zero area (see [`PolygonError`], which names the face).
+    ///
+    /// *How to fix*: split the face into simple polygons, or remove it if it has no area
+    /// (`csgkit check` lists such faces).
+    #[error("operand {operand}: {error}")]
+    InvalidPolygon {
+        /// The operand.
+        operand: usize,
+        /// The face and what is wrong with it.
+        error: PolygonError,
     },
     /// Some edges are not used equally often in both directions: the operand has holes or
     /// inconsistently oriented faces, so it does not bound a solid.

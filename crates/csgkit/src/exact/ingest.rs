@@ -6,8 +6,10 @@
 //! - positions of all operands are welded together (bit-identical coordinates, `-0.0` equal to
 //!   `0.0`), so a vertex two operands share has one id and the intersect stage recognises
 //!   shared vertices by id;
-//! - every face is fan-triangulated, keeping its face id, and exactly degenerate triangles
-//!   (collinear corners, by the exact orientation test) are dropped;
+//! - every face is triangulated by the mesh module's exact triangulator
+//!   ([`triangulate_faces`]: a polygon whose projection overlaps itself is an error), keeping
+//!   its face id, and exactly degenerate triangles (collinear corners, by the exact orientation
+//!   test) are dropped;
 //! - the triangles of each operand are contiguous and each operand is closed and consistently
 //!   oriented: every undirected edge is used as often in each direction (non-manifold but
 //!   balanced edges, as in two cubes sharing an edge, are solids too), with a non-negative
@@ -28,7 +30,7 @@ use rayon::prelude::*;
 
 use crate::index::Aabb;
 use crate::kernel::Point3;
-use crate::mesh::{FaceId, Mesh, weld_positions};
+use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces, weld_positions};
 
 use super::boolean::{BooleanError, ERROR_EXAMPLES};
 use super::intersect::Triangle;
@@ -73,8 +75,8 @@ impl Input {
 /// Builds the [`Input`] of `operands`.
 ///
 /// # Errors
-/// [`BooleanError::NonFinite`], [`BooleanError::NotClosed`] or [`BooleanError::Inverted`],
-/// naming the first operand that fails.
+/// [`BooleanError::NonFinite`], [`BooleanError::InvalidPolygon`], [`BooleanError::NotClosed`]
+/// or [`BooleanError::Inverted`], naming the first operand that fails.
 pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     for (k, mesh) in operands.iter().enumerate() {
         if let Some(v) = mesh
@@ -108,7 +110,8 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     for (k, mesh) in operands.iter().enumerate() {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
         let start = triangles.len();
-        let dropped = add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles);
+        let dropped = add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles)
+            .map_err(|error| BooleanError::InvalidPolygon { operand: k, error })?;
         degenerate.extend(dropped.into_iter().map(|t| (k as u32, t)));
         operand.extend(std::iter::repeat_n(k as u32, triangles.len() - start));
         vertex_offset += mesh.vertex_count();
@@ -147,8 +150,8 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     Ok(input)
 }
 
-/// Appends the non-degenerate fan triangles of one operand over the welded vertices (`remap`
-/// maps its vertices to welded ids) and their faces; triangle meshes in parallel, straight
+/// Appends the non-degenerate triangles of one operand ([`triangulate_faces`]) over the welded
+/// vertices (`remap` maps its vertices to welded ids) and their faces, in parallel, straight
 /// into the output vectors. Returns the exactly degenerate triangles it left out, over welded
 /// ids: their edges still count in the closedness check (a flat triangle between two
 /// neighbours that meet it along its long side is a T-junction the arrangement resolves, not
@@ -159,42 +162,29 @@ fn add_operand_triangles(
     positions: &[Point3],
     faces: &mut Vec<FaceId>,
     triangles: &mut Vec<Triangle>,
-) -> Vec<[u32; 3]> {
+) -> Result<Vec<[u32; 3]>, PolygonError> {
     let make = |f: FaceId, corners: [u32; 3]| {
         let ids = corners.map(|v| remap[v as usize]);
         Triangle::new(0, ids, ids.map(|v| positions[v as usize]))
             .map(|t| (f, t))
             .ok_or(ids)
     };
+    let triangulation = triangulate_faces(mesh)?;
+    let start = faces.len();
+    let found = (triangulation.par_iter()).filter_map(|(f, c)| make(f, c).ok());
+    let mut both = (std::mem::take(faces), std::mem::take(triangles));
+    both.par_extend(found);
+    (*faces, *triangles) = both;
+    // Degenerate triangles are rare: find those left out only when there are some.
     let mut degenerate = Vec::new();
-    if mesh.is_triangle_mesh() {
-        let start = faces.len();
-        let found = (mesh.corners().par_chunks_exact(3).enumerate())
-            .filter_map(|(f, c)| make(FaceId::new(f), [c[0], c[1], c[2]]).ok());
-        let mut both = (std::mem::take(faces), std::mem::take(triangles));
-        both.par_extend(found);
-        (*faces, *triangles) = both;
-        // Degenerate triangles are rare: find the faces left out only when there are some.
-        if faces.len() - start < mesh.face_count() {
-            let mut kept = faces[start..].iter().map(|f| f.index()).peekable();
-            for (f, c) in mesh.corners().chunks_exact(3).enumerate() {
-                if kept.next_if_eq(&f).is_none() {
-                    degenerate.push([c[0], c[1], c[2]].map(|v| remap[v as usize]));
-                }
-            }
-        }
-    } else {
-        for m in mesh.fan_triangles().map(|(f, c)| make(f, c)) {
-            match m {
-                Ok((f, t)) => {
-                    faces.push(f);
-                    triangles.push(t);
-                }
-                Err(ids) => degenerate.push(ids),
+    if faces.len() - start < triangulation.len() {
+        for (f, c) in triangulation.iter() {
+            if let Err(ids) = make(f, c) {
+                degenerate.push(ids);
             }
         }
     }
-    degenerate
+    Ok(degenerate)
 }
 
 /// The first vertex index of each operand in the concatenated positions.

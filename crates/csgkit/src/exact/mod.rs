@@ -4,8 +4,9 @@
 //! # Pipeline
 //! Data flows forward through one module per stage (Freixas, Grau & Silva's subdivision,
 //! classification and reconstruction, made exact):
-//! 1. **ingest** — weld bit-identical vertices, fan-triangulate polygons keeping the face id,
-//!    drop exactly degenerate triangles, validate the operands, rescale by a power of two.
+//! 1. **ingest** — weld bit-identical vertices, triangulate polygons exactly keeping the face
+//!    id ([`triangulate_faces`](crate::mesh::triangulate_faces)), drop exactly degenerate
+//!    triangles, validate the operands, rescale by a power of two.
 //! 2. **broad** — candidate triangle pairs whose boxes overlap ([`Bvh`](crate::Bvh)).
 //! 3. **intersect** — exact triangle–triangle classification ([`intersect_triangles`]):
 //!    disjoint, touching at a point or along a segment, crossing, coplanar overlap; every

@@ -6,8 +6,10 @@
 //! (the reference measured in the shared data's `manifest.json`):
 //! - vertices with exactly equal positions are welded first ([`weld_positions`]: `-0.0`
 //!   equals `0.0`);
-//! - polygons are fan-triangulated ([`Mesh::fan_triangles`]); exactly degenerate triangles
-//!   (collinear corners) are left out;
+//! - polygons are triangulated exactly ([`triangulate_faces_partial`]); exactly degenerate
+//!   triangles (collinear corners) are left out, and so are polygons of zero area; a polygon
+//!   that cannot be triangulated otherwise (its projection overlaps itself) is left out of the
+//!   pairs and reported in [`SelfIntersections::invalid_polygons`];
 //! - two triangles with no shared vertex count when they have any common point (touching
 //!   counts);
 //! - sharing one vertex: when they have a common point besides that vertex;
@@ -15,9 +17,10 @@
 //!   ([`Intersection::CoplanarOverlap`]);
 //! - sharing three vertices (a duplicated triangle): never, as in libigl;
 //! - **polygons** (a csgkit choice; the reference files with polygons have no
-//!   self-intersection): two fan triangles of the same face never count against each other,
-//!   and a pair of faces counts once however many of their triangles meet. On triangle
-//!   meshes the face pairs are exactly the triangle pairs of the reference.
+//!   self-intersection): two triangles of the same face never count against each other (they
+//!   cannot overlap: the triangulation is exact), and a pair of faces counts once however many
+//!   of their triangles meet. On triangle meshes the face pairs are exactly the triangle pairs
+//!   of the reference.
 //!
 //! # Agreement with the reference
 //! The counts equal the manifest's on every shared data mesh but two (checked in
@@ -28,7 +31,7 @@
 //!
 //! # Algorithm
 //! [`self_intersections`]:
-//! 1. Weld, fan-triangulate and drop degenerate triangles ([`Triangle::new`]), in parallel.
+//! 1. Weld, triangulate and drop degenerate triangles ([`Triangle::new`]), in parallel.
 //! 2. `intersecting_pairs` on those triangles.
 //! 3. Map the triangle pairs to face pairs, drop the pairs within one face, sort and
 //!    deduplicate; the faces are the sorted union of their members.
@@ -69,7 +72,7 @@ use rayon::prelude::*;
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d};
-use crate::mesh::{FaceId, Mesh, weld_positions};
+use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces_partial, weld_positions};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -78,6 +81,10 @@ pub struct SelfIntersections {
     pub pairs: Vec<(FaceId, FaceId)>,
     /// The faces in at least one pair, sorted, without repeats.
     pub faces: Vec<FaceId>,
+    /// Polygons left out of the check because they cannot be triangulated (their projection
+    /// overlaps itself, which is a self-intersection of its own), in face order. Polygons of
+    /// zero area are left out silently, as degenerate triangles are.
+    pub invalid_polygons: Vec<PolygonError>,
 }
 
 impl SelfIntersections {
@@ -91,18 +98,18 @@ impl SelfIntersections {
         self.faces.len()
     }
 
-    /// True when the mesh does not intersect itself.
+    /// True when the mesh does not intersect itself: no pair and no invalid polygon.
     pub fn is_empty(&self) -> bool {
-        self.pairs.is_empty()
+        self.pairs.is_empty() && self.invalid_polygons.is_empty()
     }
 }
 
 /// The exact self-intersections of `mesh` (semantics and algorithm in the
 /// [module docs](self)).
 pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
-    let (faces, triangles) = triangles(mesh);
-    // Fan triangles of one face never count against each other: the pair is dropped here
-    // rather than in `intersecting_pairs`, which knows nothing of faces.
+    let (faces, triangles, invalid_polygons) = triangles(mesh);
+    // Triangles of one face never count against each other: the pair is dropped here rather
+    // than in `intersecting_pairs`, which knows nothing of faces.
     let mut pairs: Vec<(FaceId, FaceId)> = intersecting_pairs(&triangles)
         .into_iter()
         .filter_map(|(i, j)| {
@@ -115,7 +122,11 @@ pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
     let mut faces: Vec<FaceId> = pairs.iter().flat_map(|&(f, g)| [f, g]).collect();
     faces.par_sort_unstable();
     faces.dedup();
-    SelfIntersections { pairs, faces }
+    SelfIntersections {
+        pairs,
+        faces,
+        invalid_polygons,
+    }
 }
 
 /// Pairs `(i, j)`, `i < j`, of triangles (indices into `triangles`) that intersect other than
@@ -182,8 +193,9 @@ pub(crate) fn pair_intersects(a: &Triangle, b: &Triangle) -> bool {
     counts(&Prepared::new(a), &Prepared::new(b), || (a, b))
 }
 
-/// The non-degenerate fan triangles of `mesh` with welded vertex ids, and the face of each.
-fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>) {
+/// The non-degenerate triangles of `mesh` with welded vertex ids, the face of each, and the
+/// polygons that cannot be triangulated (except those of zero area).
+fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>, Vec<PolygonError>) {
     let positions = mesh.positions();
     // Each vertex becomes the first vertex at its position (`-0.0` equals `0.0`), so the
     // triangles keep input vertex ids and exactly equal positions share one.
@@ -191,9 +203,10 @@ fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>) {
     let weld: Vec<u32> = (welding.remap.iter())
         .map(|&w| welding.representatives[w as usize])
         .collect();
-    let fans: Vec<(FaceId, [u32; 3])> = mesh.fan_triangles().collect();
-    let (faces, mut triangles): (Vec<FaceId>, Vec<Triangle>) = (fans.par_iter())
-        .filter_map(|&(face, corners)| {
+    let (triangulation, mut invalid) = triangulate_faces_partial(mesh);
+    invalid.retain(|e| !matches!(e, PolygonError::ZeroArea { .. }));
+    let (faces, mut triangles): (Vec<FaceId>, Vec<Triangle>) = (triangulation.par_iter())
+        .filter_map(|(face, corners)| {
             let ids = corners.map(|v| weld[v as usize]);
             let pts = ids.map(|v| positions[v as usize]);
             Triangle::new(0, ids, pts).map(|t| (face, t))
@@ -201,7 +214,7 @@ fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>) {
         .unzip();
     // A triangle's id is its index (only intersection keys read it).
     (triangles.par_iter_mut().enumerate()).for_each(|(k, t)| *t = t.with_id(k as u32));
-    (faces, triangles)
+    (faces, triangles, invalid)
 }
 
 /// Whether a pair of triangles of one mesh counts as intersecting (libigl's rules).
@@ -671,8 +684,9 @@ mod tests {
 
     #[test]
     fn polygon_fans_and_duplicates_do_not_count() {
-        // Face 0: a square; its two fan triangles share an edge (one face: no pair). Face 1: a triangle crossing the quad. Face 2: a copy of face 1 (three shared
-        // vertices: never counted). Welding makes vertex 7 the same as vertex 4.
+        // Face 0: a square; its two triangles share an edge (one face: no pair). Face 1: a
+        // triangle crossing the square. Face 2: a copy of face 1 (three shared vertices: never
+        // counted). Welding makes vertex 7 the same as vertex 4.
         let positions = vec![
             [0.0, 0.0, 0.0],
             [4.0, 0.0, 0.0],
@@ -700,5 +714,41 @@ mod tests {
                 (FaceId::new(0), FaceId::new(2))
             ]
         );
+    }
+
+    #[test]
+    fn self_overlapping_polygons_are_reported_and_zero_area_ones_left_out() {
+        // Face 0: an L hexagon starting at (2, 0), whose fan would overlap itself. Face 1: a
+        // bow tie. Face 2: four collinear corners.
+        let positions = vec![
+            [2.0, 0.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 2.0, 0.0],
+            [0.0, 2.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [5.0, 0.0, 0.0],
+            [7.0, 2.0, 0.0],
+            [7.0, 0.0, 0.0],
+            [5.0, 2.0, 0.0],
+            [0.0, 0.0, 5.0],
+            [1.0, 0.0, 5.0],
+            [2.0, 0.0, 5.0],
+        ];
+        let parts = crate::MeshParts {
+            positions,
+            corners: vec![0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 11],
+            face_starts: Some(vec![0, 6, 10, 14]),
+            ..crate::MeshParts::default()
+        };
+        let found = self_intersections(&Mesh::from_parts(parts).expect("valid mesh"));
+        assert!(found.pairs.is_empty());
+        let face = FaceId::new(1);
+        let overlap = crate::mesh::Overlap::CrossingEdges;
+        assert_eq!(
+            found.invalid_polygons,
+            vec![PolygonError::SelfOverlapping { face, overlap }]
+        );
+        assert!(!found.is_empty());
     }
 }

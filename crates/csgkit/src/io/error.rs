@@ -10,7 +10,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use super::Format;
-use crate::mesh::InvalidMesh;
+use crate::mesh::{InvalidMesh, PolygonError};
 
 /// Where in a file a problem lies: a 1-based line of a text file or a byte offset of a binary one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -191,6 +191,16 @@ pub enum WriteError {
         format: Format,
         /// What does not fit.
         reason: &'static str,
+    },
+    /// The format holds triangles only, and a polygon cannot be triangulated.
+    ///
+    /// *How to fix*: split the face into simple polygons, or remove it if it has no area.
+    #[error("cannot write {format}: {error}")]
+    InvalidPolygon {
+        /// The format.
+        format: Format,
+        /// The face and what is wrong with it.
+        error: PolygonError,
     },
 }
 

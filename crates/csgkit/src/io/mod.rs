@@ -195,7 +195,8 @@ fn detect(bytes: &[u8], hint: Option<Format>) -> Option<Format> {
 /// Renders `mesh` in `format`.
 ///
 /// # Errors
-/// [`WriteError::TooLarge`] if the mesh does not fit the format.
+/// [`WriteError::TooLarge`] if the mesh does not fit the format, [`WriteError::InvalidPolygon`]
+/// if the format holds only triangles (STL) and a polygon cannot be triangulated.
 pub fn write_mesh_to_bytes(
     mesh: &Mesh,
     format: Format,
@@ -215,7 +216,8 @@ pub fn write_mesh_to_bytes(
 ///
 /// # Errors
 /// [`WriteError::UnknownFormat`] if neither `options.format` nor the extension names a format,
-/// [`WriteError::TooLarge`] if the mesh does not fit it, [`WriteError::Io`] if the file system
+/// [`WriteError::TooLarge`] if the mesh does not fit it, [`WriteError::InvalidPolygon`] if it
+/// holds only triangles and a polygon cannot be triangulated, [`WriteError::Io`] if the file system
 /// refuses; the destination is then left as it was.
 pub fn write_mesh(
     path: impl AsRef<Path>,

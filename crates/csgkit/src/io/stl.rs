@@ -14,8 +14,10 @@
 //! Hand-written rather than `stl_io`: it welds in f32 and returns f32 positions, while csgkit
 //! keeps the exact f64 values an ASCII file spells out.
 //!
-//! The writer fan-triangulates polygons from their first corner. That is right for convex
-//! faces only; a non-convex polygon needs a proper triangulation first (not done here).
+//! The writer triangulates polygons with the mesh module's exact triangulator
+//! ([`triangulate_faces`]), so non-convex polygons are written as themselves; a polygon that
+//! cannot be triangulated (its projection overlaps itself, or it has zero area) is a
+//! [`WriteError::InvalidPolygon`].
 //! Binary output rounds coordinates to f32; ASCII output prints shortest round-trip f64.
 //! Only geometry is written: STL holds no attribute csgkit keeps.
 
@@ -25,7 +27,7 @@ use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, WriteError, malformed};
 use super::text::{Lines, Tokens, check_finite, next_f64};
 use super::{Encoding, Format, LoadedMesh};
-use crate::mesh::{Mesh, MeshParts};
+use crate::mesh::{Mesh, MeshParts, Triangulation, triangulate_faces};
 
 /// Bytes before the first facet of a binary file: header and triangle count.
 const HEADER: usize = 84;
@@ -220,19 +222,27 @@ fn normal([a, b, c]: [[f64; 3]; 3]) -> [f64; 3] {
     }
 }
 
-/// Appends `mesh` as STL to `out`, fan-triangulating polygons.
+/// Appends `mesh` as STL to `out`, triangulating polygons.
 pub(crate) fn write(mesh: &Mesh, encoding: Encoding, out: &mut Vec<u8>) -> Result<(), WriteError> {
+    let triangles = triangulate_faces(mesh).map_err(|error| WriteError::InvalidPolygon {
+        format: Format::Stl,
+        error,
+    })?;
     match encoding {
-        Encoding::Binary => write_binary(mesh, out),
+        Encoding::Binary => write_binary(mesh, &triangles, out),
         Encoding::Ascii => {
-            write_ascii(mesh, out);
+            write_ascii(mesh, &triangles, out);
             Ok(())
         }
     }
 }
 
-fn write_binary(mesh: &Mesh, out: &mut Vec<u8>) -> Result<(), WriteError> {
-    let count = mesh.corner_count() - 2 * mesh.face_count();
+fn write_binary(
+    mesh: &Mesh,
+    triangles: &Triangulation<'_>,
+    out: &mut Vec<u8>,
+) -> Result<(), WriteError> {
+    let count = triangles.len();
     let count = u32::try_from(count).map_err(|_| WriteError::TooLarge {
         format: Format::Stl,
         reason: "binary STL holds at most u32::MAX triangles",
@@ -243,7 +253,7 @@ fn write_binary(mesh: &Mesh, out: &mut Vec<u8>) -> Result<(), WriteError> {
     out.extend_from_slice(&header);
     out.extend_from_slice(&count.to_le_bytes());
     out.reserve(FACET * count as usize);
-    for (_, t) in mesh.fan_triangles() {
+    for (_, t) in triangles.iter() {
         let points = t.map(|v| mesh.positions()[v as usize]);
         let mut facet = [0u8; FACET];
         for (k, p) in std::iter::once(normal(points)).chain(points).enumerate() {
@@ -257,7 +267,7 @@ fn write_binary(mesh: &Mesh, out: &mut Vec<u8>) -> Result<(), WriteError> {
     Ok(())
 }
 
-fn write_ascii(mesh: &Mesh, out: &mut Vec<u8>) {
+fn write_ascii(mesh: &Mesh, triangles: &Triangulation<'_>, out: &mut Vec<u8>) {
     let mut f = ryu::Buffer::new();
     let mut xyz = |out: &mut Vec<u8>, p: [f64; 3]| {
         for c in p {
@@ -267,7 +277,7 @@ fn write_ascii(mesh: &Mesh, out: &mut Vec<u8>) {
         out.push(b'\n');
     };
     out.extend_from_slice(b"solid csgkit\n");
-    for (_, t) in mesh.fan_triangles() {
+    for (_, t) in triangles.iter() {
         out.extend_from_slice(b"facet normal");
         xyz(out, normal(t.map(|v| mesh.positions()[v as usize])));
         out.extend_from_slice(b"outer loop\n");

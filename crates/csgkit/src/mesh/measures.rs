@@ -6,8 +6,11 @@
 //!   is the enclosed volume, positive when the faces wind counter-clockwise seen from outside,
 //!   and does not depend on the apex; for an open mesh it depends on the apex, and the origin
 //!   is used, as the reference measurements do.
-//! - **Area**: the sum of the fan triangles' areas |(b − a) × (c − a)| / 2 (exact for planar
-//!   polygons, convex or not; for a non-planar polygon it is the area of its fan).
+//! - **Area**: the sum over faces of half the norm of the face's vector area, Σ (b − a) × (c − a)
+//!   over its fan triangles (a, b, c): a triangle's area, and a planar polygon's area, convex
+//!   or not (the fan of a non-convex polygon overlaps itself with triangles of opposite
+//!   orientation, which cancel in the vector sum but not in a sum of triangle areas); for a
+//!   non-planar polygon, the area of its projection on the plane normal to its vector area.
 //! - **Bounding box**: the componentwise min and max over the vertices that faces use;
 //!   `None` for a mesh without faces.
 //!
@@ -87,12 +90,17 @@ pub fn measure(mesh: &Mesh) -> Measures {
     let mut volume = CompensatedSum::default();
     let mut area = CompensatedSum::default();
     let mut vector_area = [CompensatedSum::default(); 3];
-    for (_, [a, b, c]) in mesh.fan_triangles() {
-        let (a, b, c) = (shifted(a), shifted(b), shifted(c));
-        volume.add(dot(a, cross(b, c)) / 6.0);
-        let n = cross(sub(b, a), sub(c, a));
-        area.add(norm(n) / 2.0);
-        for (sum, component) in vector_area.iter_mut().zip(n) {
+    for corners in mesh.faces() {
+        let a = shifted(corners[0]);
+        let mut face_area = [0.0; 3];
+        for k in 1..corners.len() - 1 {
+            let (b, c) = (shifted(corners[k]), shifted(corners[k + 1]));
+            volume.add(dot(a, cross(b, c)) / 6.0);
+            let n = cross(sub(b, a), sub(c, a));
+            face_area = std::array::from_fn(|i| face_area[i] + n[i]);
+        }
+        area.add(norm(face_area) / 2.0);
+        for (sum, component) in vector_area.iter_mut().zip(face_area) {
             sum.add(component / 2.0);
         }
     }
@@ -178,6 +186,27 @@ mod tests {
         let volume = measure(&square).volume;
         assert!((volume - 1.0 / 3.0).abs() < 1e-15, "{volume}");
         assert_eq!(measure(&open_box()).area, 5.0);
+    }
+
+    #[test]
+    fn non_convex_polygon_area_is_exact() {
+        // An L hexagon fanned from (2, 0): the fan's triangles overlap, one of them clockwise,
+        // and their areas alone would sum to 4.
+        let positions = vec![
+            [2.0, 0.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 2.0, 0.0],
+            [0.0, 2.0, 0.0],
+            [0.0, 0.0, 0.0],
+        ];
+        let parts = crate::MeshParts {
+            positions,
+            corners: vec![0, 1, 2, 3, 4, 5],
+            face_starts: Some(vec![0, 6]),
+            ..crate::MeshParts::default()
+        };
+        assert_eq!(measure(&Mesh::from_parts(parts).unwrap()).area, 3.0);
     }
 
     #[test]

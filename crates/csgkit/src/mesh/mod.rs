@@ -28,6 +28,15 @@
 //! ([`measure`]). The submodules' docs define each number and say where it differs from the
 //! reference measurements in `shared/data/manifest.json`.
 //!
+//! # Triangles
+//! [`triangulate_faces`] is the one triangulator of polygons: triangles pass through, strictly
+//! convex polygons keep the fan from their first corner, and every other polygon gets the
+//! exact constrained triangulation of its projection, or a [`PolygonError`] naming the face
+//! when that projection overlaps itself. The exact engine, the self-intersection check and the
+//! STL writer read faces through it. [`Mesh::fan_triangles`] serves only sums of signed terms
+//! (volume, vector area, winding numbers), which any triangulation of a polygon's boundary
+//! loop gives alike.
+//!
 //! # Making a mesh 2-manifold
 //! A closed mesh may touch itself along edges and at vertices (two cubes sharing an edge).
 //! [`split_non_manifold`] duplicates vertices until every edge has two uses and every vertex
@@ -41,6 +50,7 @@ mod report;
 #[cfg(test)]
 mod test_meshes;
 mod topology;
+pub mod triangulate;
 pub(crate) mod union_find;
 mod validation;
 mod weld;
@@ -51,6 +61,10 @@ pub use manifold_split::split_non_manifold;
 pub use measures::{BoundingBox, Measures, bounding_box, measure};
 pub use report::{MeshReport, analyze};
 pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
+pub use triangulate::{
+    Overlap, PolygonError, Triangulation, triangulate_faces, triangulate_faces_partial,
+};
+pub(crate) use triangulate::{PlanarFault, triangulate_planar};
 pub use validation::InvalidMesh;
 pub use weld::{Welding, apply_welding, weld, weld_positions};
 
@@ -234,9 +248,10 @@ impl Mesh {
 
     /// Triangles of a fan triangulation of every face, tagged with their face.
     ///
-    /// Measures (volume, area) and consumers that need triangles use this; a fan is exact for
-    /// the volume and area of planar convex and non-convex polygons alike, since both are sums
-    /// of signed terms.
+    /// Only for sums of signed terms over a closed polygon loop — signed volume, vector area,
+    /// winding numbers — which every triangulation of the loop gives alike; the fan of a
+    /// non-convex polygon leaves the polygon and overlaps itself. Consumers that need the
+    /// polygon's own triangles use [`triangulate_faces`].
     pub fn fan_triangles(&self) -> impl Iterator<Item = (FaceId, [u32; 3])> + '_ {
         self.faces().enumerate().flat_map(|(f, corners)| {
             (1..corners.len() - 1)

@@ -35,7 +35,9 @@ pub struct MeshReport {
     pub faces: usize,
     /// Faces with more than three corners.
     pub polygons: usize,
-    /// Triangles of a fan triangulation of every face.
+    /// Triangles of every face split without new vertices: n − 2 for a face of n corners, as a
+    /// fan gives (the reference's count) and [`triangulate_faces`](super::triangulate_faces)
+    /// gives for a simple polygon.
     pub triangles: usize,
     /// Stored vertices that repeat an earlier position (equal coordinates).
     pub duplicate_vertices: usize,

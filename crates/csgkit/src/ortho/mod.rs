@@ -40,7 +40,9 @@
 //! Steps 1–3 only compare input coordinates: they are exact for every finite f64. Step 4 uses
 //! the exact orientation predicates of `spade` (Shewchuk's, through `robust`) on the input
 //! coordinates and creates no coordinate; spade accepts absolute values up to 2^201 and
-//! nonzero ones down to 2^-142, and reports others as [`OrthoError::Triangulation`].
+//! nonzero ones down to 2^-142, so a face's coordinates are first multiplied by a power of two
+//! (exactly) when they lie outside; a face whose nonzero magnitudes span more than 2^342 is
+//! reported as [`OrthoError::Triangulation`].
 //!
 //! # Complexity
 //! Σ_planes O(m_k log m_k + runs) for the sweep, O(E log E) for the loops, and the
@@ -118,7 +120,8 @@ pub enum OrthoError {
     /// The progress callback asked to stop.
     #[error("cancelled")]
     Cancelled,
-    /// The triangulation of a face failed, e.g. for coordinates outside spade's range.
+    /// The triangulation of a face failed, e.g. for coordinates spanning more binades than
+    /// spade's range.
     #[error("face {face} cannot be triangulated: {reason}")]
     Triangulation {
         /// The face's index in the B-rep.

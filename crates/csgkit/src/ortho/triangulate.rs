@@ -2,24 +2,28 @@
 //!
 //! A face is triangulated in its (a, b) frame from its loop vertices only: no Steiner point,
 //! no dropped collinear vertex. Earcut-style libraries drop collinear points, and those are
-//! exactly the conforming vertices that keep the mesh free of T-junctions, so we use spade's
-//! constrained Delaunay triangulation instead:
+//! exactly the conforming vertices that keep the mesh free of T-junctions, so we use the
+//! crate's one triangulator of polygons, the constrained Delaunay triangulation of
+//! `mesh::triangulate` (its planar core, which takes holes), instead:
 //! 1. insert the face's distinct loop vertices, with every loop edge as a constraint
-//!    (`try_bulk_load_cdt`; a conflict is an error, never a panic);
+//!    (a conflict is an error, never a panic);
 //! 2. flood-fill from the outer face, flipping inside/outside across constraint edges;
 //! 3. keep the inside triangles, CCW in (a, b), hence CCW seen from outside.
 //!
 //! A face with n loop positions (counting repeats) and h holes gives exactly n + 2h − 2
-//! triangles; the count is checked and a mismatch is an error.
+//! triangles; the count is checked and a mismatch is an error. Loops may be weakly simple
+//! (a vertex visited twice), which the mesh polygons' stricter checks of
+//! `mesh::triangulate_faces` reject, so only the planar core is shared.
 //!
-//! Numeric model: spade's exact predicates on the input coordinates; no coordinate is created.
+//! Numeric model: spade's exact predicates on the input coordinates, scaled by a power of two
+//! into spade's range when needed (exact); no coordinate is created.
 //! Complexity: O(n log n) per face.
 
 use rayon::prelude::*;
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::manifold::TriangleSoup;
-use super::{BRep, Face, OrthoError};
+use super::{BRep, OrthoError};
+use crate::mesh::{PlanarFault, triangulate_planar};
 use crate::{FaceId, Mesh, MeshParts, OperandId, Provenance};
 
 /// How [`BRep::to_mesh`] writes faces.
@@ -166,8 +170,9 @@ impl BRep {
     /// The triangles of face `f` as vertex-index triples, CCW seen from outside.
     ///
     /// # Errors
-    /// [`OrthoError::Triangulation`] if spade rejects a coordinate or the result does not have
-    /// n + 2h − 2 triangles.
+    /// [`OrthoError::Triangulation`] if the loops' edges cross or their vertices coincide, if
+    /// no power of two brings the face's coordinates into spade's range, or if the result does
+    /// not have n + 2h − 2 triangles.
     ///
     /// # Panics
     /// If `f` is not a face index, or a loop names a missing vertex (see
@@ -175,12 +180,32 @@ impl BRep {
     pub fn triangulate_face(&self, f: usize) -> Result<Vec<[u32; 3]>, OrthoError> {
         let face = &self.faces[f];
         let fail = |reason: String| OrthoError::Triangulation { face: f, reason };
-        let (ids, cdt) = self.face_cdt(face).map_err(fail)?;
-        let inside = flood_fill(&cdt);
-        let triangles: Vec<[u32; 3]> = cdt
-            .inner_faces()
-            .filter(|t| inside[t.fix().index()])
-            .map(|t| t.vertices().map(|v| ids[v.fix().index()]))
+        let (a, b) = face.orientation.frame();
+        let loops = || std::iter::once(&face.outer).chain(&face.holes);
+        // Steps 1-3 on the face's distinct loop vertices, in the (a, b) frame.
+        let mut ids: Vec<u32> = loops().flatten().copied().collect();
+        ids.sort_unstable();
+        ids.dedup();
+        let local = |v: u32| ids.binary_search(&v).expect("loop vertex was collected");
+        let points = (ids.iter())
+            .map(|&v| {
+                let p = self.vertices[v as usize].position;
+                [p[a], p[b]]
+            })
+            .collect();
+        let edges = loops()
+            .flat_map(|lp| (0..lp.len()).map(|i| [local(lp[i]), local(lp[(i + 1) % lp.len()])]))
+            .collect();
+        let planar = triangulate_planar(points, edges).map_err(|fault| {
+            fail(match fault {
+                PlanarFault::OutOfRange => "coordinates outside spade's range".into(),
+                PlanarFault::CoincidentPoints | PlanarFault::CrossingEdges => {
+                    "loop edges cross or vertices coincide".into()
+                }
+            })
+        })?;
+        let triangles: Vec<[u32; 3]> = (planar.triangles.iter())
+            .map(|t| t.map(|i| ids[i]))
             .collect();
         let n: usize = face.holes.iter().map(Vec::len).sum::<usize>() + face.outer.len();
         let expected = n + 2 * face.holes.len() - 2;
@@ -192,66 +217,6 @@ impl BRep {
         }
         Ok(triangles)
     }
-
-    /// Step 1: the constrained triangulation of a face's loops, with the vertex id of each
-    /// spade vertex index.
-    fn face_cdt(&self, face: &Face) -> Result<(Vec<u32>, Cdt), String> {
-        let (a, b) = face.orientation.frame();
-        let loops = || std::iter::once(&face.outer).chain(&face.holes);
-        let mut ids: Vec<u32> = loops().flatten().copied().collect();
-        ids.sort_unstable();
-        ids.dedup();
-        let local = |v: u32| ids.binary_search(&v).expect("loop vertex was collected");
-        let points = ids
-            .iter()
-            .map(|&v| {
-                let p = self.vertices[v as usize].position;
-                Point2::new(p[a], p[b])
-            })
-            .collect();
-        let edges = loops()
-            .flat_map(|lp| (0..lp.len()).map(|i| [local(lp[i]), local(lp[(i + 1) % lp.len()])]))
-            .collect();
-        let mut conflicts = 0;
-        let cdt = Cdt::try_bulk_load_cdt(points, edges, |_| conflicts += 1)
-            .map_err(|e| format!("{e:?}"))?;
-        if conflicts > 0 || cdt.num_vertices() != ids.len() {
-            return Err("loop edges cross or vertices coincide".into());
-        }
-        Ok((ids, cdt))
-    }
-}
-
-type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
-
-/// Step 2: whether each face (by index) lies inside the loops.
-fn flood_fill(cdt: &Cdt) -> Vec<bool> {
-    let mut inside = vec![false; cdt.num_all_faces()];
-    let mut seen = vec![false; cdt.num_all_faces()];
-    let mut stack = Vec::new();
-    for e in cdt.directed_edges() {
-        if e.face().is_outer() {
-            if let Some(t) = e.rev().face().as_inner() {
-                stack.push((t, e.is_constraint_edge()));
-            }
-        }
-    }
-    while let Some((t, state)) = stack.pop() {
-        let i = t.fix().index();
-        if seen[i] {
-            continue;
-        }
-        seen[i] = true;
-        inside[i] = state;
-        for e in t.adjacent_edges() {
-            if let Some(u) = e.rev().face().as_inner() {
-                if !seen[u.fix().index()] {
-                    stack.push((u, state ^ e.is_constraint_edge()));
-                }
-            }
-        }
-    }
-    inside
 }
 
 /// True if no vertex repeats in the loop (it is simple, not weakly simple).

@@ -28,6 +28,42 @@ fn binary_round_trip_welds_and_fans() {
     assert_eq!(loaded.mesh.positions()[0], [f64::from(0.1f32), 0.0, 0.0]);
 }
 
+/// One polygon in the plane z = 0 with corners `0, 1, …`.
+fn polygon(points: &[[f64; 2]]) -> Mesh {
+    Mesh::from_parts(MeshParts {
+        positions: points.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+        corners: (0..points.len() as u32).collect(),
+        face_starts: Some(vec![0, points.len() as u32]),
+        ..MeshParts::default()
+    })
+    .unwrap()
+}
+
+#[test]
+fn non_convex_polygons_are_written_as_their_triangles() {
+    // An L hexagon starting at (2, 0): its fan would cover area outside it.
+    let l = [
+        [2.0, 0.0],
+        [2.0, 1.0],
+        [1.0, 1.0],
+        [1.0, 2.0],
+        [0.0, 2.0],
+        [0.0, 0.0],
+    ];
+    let mut out = Vec::new();
+    write(&polygon(&l), Encoding::Ascii, &mut out).unwrap();
+    let loaded = read(&out).unwrap();
+    assert_eq!(loaded.mesh.face_count(), 4);
+    assert_eq!(crate::mesh::measure(&loaded.mesh).area, 3.0);
+    let bow_tie = [[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]];
+    let err = write(&polygon(&bow_tie), Encoding::Binary, &mut Vec::new()).unwrap_err();
+    assert!(matches!(err, WriteError::InvalidPolygon { .. }), "{err}");
+    assert_eq!(
+        err.to_string(),
+        "cannot write STL: face 0 overlaps itself in its projection (two edges cross)"
+    );
+}
+
 #[test]
 fn ascii_round_trip_is_exact_and_reads_crlf() {
     let mut out = Vec::new();
