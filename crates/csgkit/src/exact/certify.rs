@@ -57,8 +57,36 @@ use super::self_intersect::pair_intersects;
 /// Snap levels grow by this many doublings of the grid each round.
 pub(crate) const SNAP_LEVEL_STEP: i32 = 4;
 
-/// How many f64 steps per coordinate re-rounding may move a vertex.
-pub(crate) const REROUND_STEPS: u32 = 2;
+/// One pass of re-rounding: which vertices of problem faces may move, and how far.
+#[derive(Clone, Copy, Debug)]
+struct Reround {
+    /// Input vertices too, not only rounded intersection points.
+    any_vertex: bool,
+    /// f64 steps per coordinate.
+    steps: u32,
+}
+
+/// The passes of re-rounding, tried in order until one makes progress: rounded points first
+/// (the exact result's own vertices stay where they are whenever that suffices), then any
+/// vertex of a problem face, then farther. The farthest move is [`REROUND_MAX_STEPS`] ulps
+/// per coordinate.
+const REROUND_PASSES: [Reround; 3] = [
+    Reround {
+        any_vertex: false,
+        steps: 2,
+    },
+    Reround {
+        any_vertex: true,
+        steps: 2,
+    },
+    Reround {
+        any_vertex: true,
+        steps: REROUND_MAX_STEPS,
+    },
+];
+
+/// The farthest re-rounding, in f64 steps per coordinate.
+pub(crate) const REROUND_MAX_STEPS: u32 = 4;
 
 /// Rounds of snapping and re-refinement on one grid before a coarser one is tried.
 pub(crate) const ROUNDS_PER_LEVEL: usize = 3;
@@ -138,8 +166,11 @@ pub(crate) fn certify(
         }
         // Each successful re-rounding clears the faces of one vertex and breaks none, so
         // this repeats only while it helps.
-        let (count, displacement) = reround(&mut mesh, &moved, &problems);
-        if count > 0 {
+        let progress = REROUND_PASSES.iter().find_map(|pass| {
+            let (count, displacement) = reround(&mut mesh, pass, &moved, &problems);
+            (count > 0).then_some((count, displacement))
+        });
+        if let Some((count, displacement)) = progress {
             certificate.record_snap(count, displacement);
             continue;
         }
@@ -343,16 +374,16 @@ fn problems_among(
     }
 }
 
-/// Moves each rounded vertex of a problem face to one of the f64 points around it (each
-/// coordinate up to [`REROUND_STEPS`] steps down or up; nearest first) where its faces have no
+/// Moves each vertex of a problem face that `pass` allows to one of the f64 points around it
+/// (each coordinate up to `pass.steps` steps down or up; nearest first) where its faces have no
 /// problem with the faces around them, if there is one. Most folds are a sliver whose rounded
 /// corner landed on the wrong side of the opposite edge by an ulp: the other rounding fixes it
 /// without moving anything else. Returns how many vertices moved and the largest move
 /// relative to the bounding box diagonal.
-fn reround(mesh: &mut Mesh, moved: &[bool], problems: &Problems) -> (usize, f64) {
+fn reround(mesh: &mut Mesh, pass: &Reround, moved: &[bool], problems: &Problems) -> (usize, f64) {
     let vertices: Vec<u32> = (problems.to_snap.iter())
         .copied()
-        .filter(|&v| moved[v as usize])
+        .filter(|&v| pass.any_vertex || moved[v as usize])
         .collect();
     if vertices.is_empty() {
         return (0, 0.0);
@@ -422,7 +453,7 @@ fn reround(mesh: &mut Mesh, moved: &[bool], problems: &Problems) -> (usize, f64)
             continue;
         }
         let start = positions[v as usize];
-        let found = neighbours(start).into_iter().find(|&q| {
+        let found = neighbours(start, pass.steps).into_iter().find(|&q| {
             positions[v as usize] = q;
             fine(positions)
         });
@@ -447,10 +478,10 @@ fn reround(mesh: &mut Mesh, moved: &[bool], problems: &Problems) -> (usize, f64)
     )
 }
 
-/// The f64 points around `p` up to [`REROUND_STEPS`] steps away in each coordinate, nearest
+/// The f64 points around `p` up to `steps` steps away in each coordinate, nearest
 /// (in steps, then in coordinates changed) first.
-fn neighbours(p: Point3) -> Vec<Point3> {
-    let n = REROUND_STEPS as i32;
+fn neighbours(p: Point3, steps: u32) -> Vec<Point3> {
+    let n = steps as i32;
     let mut out: Vec<(i32, i32, Point3)> = Vec::new();
     for dx in -n..=n {
         for dy in -n..=n {
@@ -676,7 +707,7 @@ mod tests {
         let moved = [false, false, false, true];
         let problems = find_problems(&mesh, &moved);
         assert_eq!(problems.crossing_pairs, 1);
-        let (count, displacement) = reround(&mut mesh, &moved, &problems);
+        let (count, displacement) = reround(&mut mesh, &REROUND_PASSES[0], &moved, &problems);
         assert_eq!(count, 1);
         assert!(displacement > 0.0 && displacement < 1e-15);
         assert!(find_problems(&mesh, &moved).is_empty());
