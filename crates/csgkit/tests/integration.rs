@@ -12,6 +12,9 @@ mod exact_ortho;
 mod exact_props;
 // The exact engine on real meshes of the shared data folder: valid solids, volume identities.
 mod exact_real;
+// The exact engine on operands that are not simple solids: crossing faces, nested and inward
+// shells, winding rules, repair; certified results and chains through files.
+mod exact_winding;
 // Every shared data mesh loads with the manifest's counts; formats round-trip.
 mod io_formats;
 // Truncated, corrupted and random bytes make no reader panic.
