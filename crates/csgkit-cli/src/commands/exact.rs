@@ -34,7 +34,8 @@ const PROGRESS_MIN_FACES: usize = 20_000;
 /// Arguments of `csgkit union`, `intersection` and `difference`.
 #[derive(Args, Debug, Clone)]
 pub struct ExactArgs {
-    /// The operands: two or more closed, consistently oriented meshes (OBJ, STL, PLY or OFF).
+    /// The operands: two or more closed meshes (OBJ, STL, PLY or OFF); their faces may cross
+    /// each other and their shells may nest (see --winding).
     #[arg(required = true, num_args = 2.., value_name = "FILE")]
     pub inputs: Vec<PathBuf>,
     /// The output mesh; its extension chooses the format (obj, ply, off, stl).

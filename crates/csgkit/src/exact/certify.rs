@@ -10,11 +10,12 @@
 //! - with no exactly degenerate face and no two vertices at one position;
 //! - closed and consistently oriented.
 //!
-//! Every vertex ends within [`MAX_SNAP_LEVEL`] grid steps of where the exact result has it:
-//! rounding moves a vertex by at most half an ulp per coordinate, and snapping by at most
-//! `2^(MAX_SNAP_LEVEL − 1)` ulps of the largest coordinate magnitude, i.e. a displacement of at
-//! most `2^-29 · max |coordinate|` per coordinate. If that is not enough, the stage fails with
-//! [`BooleanError::NotCertified`] rather than return an invalid mesh.
+//! Every vertex ends near where the exact result has it: rounding moves it by at most half an
+//! ulp per coordinate, re-rounding by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at
+//! most half a grid step per level, the steps doubling up to `2^MAX_SNAP_LEVEL` ulps of the
+//! largest coordinate magnitude `M`) by at most `2^MAX_SNAP_LEVEL` ulps of `M` in all: every
+//! coordinate stays within `2^-27 · M` of the exact result. If that is not enough, the stage
+//! fails with [`BooleanError::NotCertified`] rather than return an invalid mesh.
 //!
 //! # Algorithm
 //! Iterative snap rounding, after Lazard & Valque, "Iterative snap rounding of triangle soups"
@@ -26,21 +27,34 @@
 //!    then the exact pair test of the self-intersection check on that neighbourhood, the
 //!    exact degeneracy test, and bit-identical positions.
 //! 2. **Done** if there is none.
-//! 3. **Snap** the vertices of crossing and degenerate faces to a coarser grid, the multiples
+//! 3. **Re-round** (`reround`): move a vertex of a problem face to an f64 point at most a few
+//!    ulps away where its faces have no problem with the faces around them (rounded points
+//!    first, then any vertex); most folds are a sliver corner rounded across the opposite
+//!    edge. Merge vertices that rounded to one position. Repeat from 1 while this helps.
+//! 4. **Snap** the vertices near crossing and degenerate faces to a coarser grid, the multiples
 //!    of `2^level` ulps of the largest coordinate magnitude (exact: a power of two), `level`
-//!    growing by [`SNAP_LEVEL_STEP`] each round.
-//! 4. **Re-refine**: the snapped soup is one operand of a union under the positive winding
+//!    growing by [`SNAP_LEVEL_STEP`] after [`ROUNDS_PER_LEVEL`] rounds (the first rounds
+//!    re-refine without snapping). The whole neighbourhood moves, so no face tilts between
+//!    a snapped and an unsnapped corner.
+//! 5. **Re-refine**: the snapped soup is one operand of a union under the positive winding
 //!    rule, computed exactly by the same pipeline (its crossing faces are intersected with
 //!    each other, folds that turned inside out are outside, coincident vertices are welded,
-//!    collapsed and degenerate faces dropped); its new intersection points are rounded, and
-//!    the loop goes back to 1 with those as the moved vertices.
+//!    collapsed and degenerate faces dropped); its new intersection points are snapped to
+//!    the same grid (Lazard & Valque), its result must be closed, and the loop goes back to 1
+//!    with those points as the moved vertices. A re-refinement that fails moves to the next
+//!    grid.
+//!
+//! Known limit: where two intersection curves of one face run closer than an ulp for a long
+//! stretch (repeated drilling along nearly the same path), steps 4–5 may not converge within
+//! [`MAX_SNAP_LEVEL`]; the result is then an error, never an invalid mesh.
 //!
 //! Where rounding folds nothing (nearly always), the stage is step 1 alone.
 //!
 //! # Complexity
 //! Step 1: a tree over the moved faces (few: those around intersection curves) and one
-//! query per face, then the exact test on the neighbourhood. Steps 3–4 run only when a
-//! problem is found, and cost one exact boolean of the result with itself.
+//! query per face, then the exact test on the neighbourhood. Step 3 tries at most a few
+//! hundred positions per problem vertex against its neighbourhood. Steps 4–5 run only when
+//! re-rounding cannot help, and cost one exact boolean of the result with itself per round.
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;

@@ -12,8 +12,9 @@
 //!   test) are dropped;
 //! - the triangles of each operand are contiguous and each operand is closed and consistently
 //!   oriented: every undirected edge is used as often in each direction (non-manifold but
-//!   balanced edges, as in two cubes sharing an edge, are solids too), with a non-negative
-//!   volume;
+//!   balanced edges, as in two cubes sharing an edge, are solids too), counting the dropped
+//!   degenerate triangles (a flat triangle is a T-junction between its neighbours, which the
+//!   arrangement resolves, not a hole), with a non-negative volume;
 //! - coordinates are multiplied by [`Input::scale`], an exact power of two chosen so that the
 //!   largest magnitude is near 1 when it is far from it, so predicate arithmetic on inputs
 //!   like ±3.4e38 neither overflows nor leaves the fast filters. The scale is applied only
@@ -21,6 +22,10 @@
 //!
 //! Errors name the operand and the first offending vertices or edges, in the operand's own
 //! vertex numbering.
+//!
+//! [`self_intersecting_pairs`] (and [`self_intersecting_pairs_at`], for a mesh known to be
+//! clean away from some vertices) find the triangle pairs of one operand that cross; the
+//! driver adds them to the arrangement.
 //!
 //! # Complexity
 //! One hash pass to weld, one parallel sort of the `3 n` half-edges for the edge checks and

@@ -18,7 +18,17 @@
 //!    all pairs and triangles).
 //! 5. **classify** — inside / outside / on of every patch against the other operands.
 //! 6. **select** — keep patches by the operation's table, written on winding numbers.
+//!
+//!    Operands that are not simple solids (faces that cross each other, nested or
+//!    overlapping shells) take another path through stages 2–6: their self-intersecting
+//!    triangle pairs join the arrangement, and **winding** replaces classify and select with
+//!    the exact winding number of every operand in front of every patch (one ray per patch);
+//!    an operand's interior is where its winding number is non-zero, or positive
+//!    ([`WindingRule`]).
 //! 7. **assemble** — round implicit points once, build the output mesh with provenance.
+//! 8. **certify** — check the rounded mesh exactly where rounding moved it, and repair it
+//!    (re-rounding within a few ulps, merging coincident vertices, iterative snap rounding
+//!    with exact re-refinement), so every result is a valid operand of the next boolean.
 //!
 //! [`boolean`] runs them in order; the exact predicates are in [`kernel`](crate::kernel).
 //! Reconstruction (merging sub-triangles back into polygons) is not built yet: the output is
