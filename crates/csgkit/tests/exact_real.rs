@@ -15,7 +15,7 @@ use csgkit::csg::primitives::{cuboid, cylinder};
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::BoundingBox;
 
-use crate::util::{rotation, shared_data, transformed, translated};
+use crate::util::{bbox, diagonal, load, rotation, shared_data, transformed, translated};
 
 use Operation::{Difference, Intersection, Union};
 
@@ -36,13 +36,6 @@ use Operation::{Difference, Intersection, Union};
 /// B is huge (`Cray_right.obj` has corners at ±3.4e38 and a volume of 1.6e116).
 const VOLUME_TOLERANCE: f64 = 1e-9;
 
-/// Reads `meshes/<name>` of the shared data folder.
-fn load(data: &Path, name: &str) -> Mesh {
-    csgkit::read_mesh(data.join("meshes").join(name))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .mesh
-}
-
 /// The manifest's exact self-intersection count (`measured.selfint_pairs`) of `name`.
 fn manifest_self_intersections(data: &Path, name: &str) -> u64 {
     let text =
@@ -55,17 +48,6 @@ fn manifest_self_intersections(data: &Path, name: &str) -> u64 {
     .find(|m| m["measured"]["file"].as_str() == Some(name))
     .unwrap_or_else(|| panic!("{name} is not in manifest.json"));
     (entry["measured"]["selfint_pairs"].as_u64()).expect("measured.selfint_pairs")
-}
-
-fn bbox(mesh: &Mesh) -> BoundingBox {
-    mesh.report().measures.bbox.expect("the mesh has faces")
-}
-
-fn diagonal(b: &BoundingBox) -> f64 {
-    (0..3)
-        .map(|i| (b.max[i] - b.min[i]).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// Runs `op`, asserts the result is a closed, oriented solid, and returns its volume.

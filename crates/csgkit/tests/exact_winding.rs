@@ -24,13 +24,14 @@ use std::time::Instant;
 
 use csgkit::csg::primitives::{cuboid, cylinder, icosphere};
 use csgkit::exact::{Boolean, BooleanError, BooleanOptions, Operation, WindingRule, boolean};
-use csgkit::mesh::BoundingBox;
 use csgkit::{Mesh, WriteOptions, read_mesh, self_intersections, write_mesh};
 use num_rational::BigRational;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
-use crate::util::{exact_volume, rotation, shared_data, transformed, translated};
+use crate::util::{
+    bbox, diagonal, exact_volume, load, rotation, shared_data, transformed, translated,
+};
 
 use Operation::{Difference, Intersection, Union};
 
@@ -359,24 +360,6 @@ fn self_intersecting_operand_in_every_position() {
 }
 
 // 4. The peers-harness cases.
-
-/// Reads `meshes/<name>` of the shared data folder.
-fn load(data: &Path, name: &str) -> Mesh {
-    read_mesh(data.join("meshes").join(name))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .mesh
-}
-
-fn bbox(mesh: &Mesh) -> BoundingBox {
-    mesh.report().measures.bbox.expect("the mesh has faces")
-}
-
-fn diagonal(b: &BoundingBox) -> f64 {
-    (0..3)
-        .map(|i| (b.max[i] - b.min[i]).powi(2))
-        .sum::<f64>()
-        .sqrt()
-}
 
 /// The volume of a shared mesh resolved alone (certified), computed once per test run for
 /// all the tests that need it (the cases below and `repair` share several meshes).

@@ -113,3 +113,23 @@ pub fn axis_aligned_area(mesh: &csgkit::Mesh) -> Result<num_rational::BigRationa
     }
     Ok(area2 / Q::from_integer(2.into()))
 }
+
+/// Reads `meshes/<name>` of the shared data folder `data`.
+pub fn load(data: &std::path::Path, name: &str) -> csgkit::Mesh {
+    csgkit::read_mesh(data.join("meshes").join(name))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .mesh
+}
+
+/// The bounding box of a mesh with faces.
+pub fn bbox(mesh: &csgkit::Mesh) -> csgkit::mesh::BoundingBox {
+    mesh.report().measures.bbox.expect("the mesh has faces")
+}
+
+/// The length of the diagonal of `b`.
+pub fn diagonal(b: &csgkit::mesh::BoundingBox) -> f64 {
+    (0..3)
+        .map(|i| (b.max[i] - b.min[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
