@@ -5,9 +5,12 @@ use csgkit::Mesh;
 use csgkit::csg::primitives::cuboid;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 
+use crate::util::assert_no_self_intersection;
+
 use Operation::{Difference, Intersection, Union};
 
-/// Runs `op`, checks the result is a closed, oriented solid, and returns its volume.
+/// Runs `op`, checks the result is a closed, oriented solid without self-intersection (the
+/// certified output), and returns its volume.
 fn volume_of(op: Operation, operands: &[&Mesh]) -> f64 {
     let result = boolean(op, operands, &BooleanOptions::default())
         .unwrap_or_else(|e| panic!("{op:?} failed: {e}"));
@@ -16,6 +19,7 @@ fn volume_of(op: Operation, operands: &[&Mesh]) -> f64 {
         report.is_valid_solid(),
         "{op:?}: not a closed oriented solid: {report:?}"
     );
+    assert_no_self_intersection(&result.mesh, &format!("{op:?}"));
     report.measures.volume
 }
 
@@ -190,6 +194,7 @@ fn check_boxes(op: Operation, boxes: &[IntBox]) {
             report.is_valid_solid(),
             "{what}: not a valid solid: {report:?}"
         );
+        assert_no_self_intersection(&result.mesh, &what);
         let error = (report.measures.volume - expected).abs();
         assert!(
             error <= 1e-9 * expected.max(1.0),

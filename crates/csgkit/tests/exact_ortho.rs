@@ -16,7 +16,7 @@ use csgkit::ortho::{MeshOptions, box_union, random_grid_boxes};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
-use crate::util::{axis_aligned_area, exact_volume};
+use crate::util::{assert_no_self_intersection, axis_aligned_area, exact_volume};
 
 /// The union by the exact engine, as one n-ary operation on cuboid meshes.
 fn exact_union(boxes: &[[f64; 6]]) -> Mesh {
@@ -51,6 +51,7 @@ fn cross_check(boxes: &[[f64; 6]]) {
         exact_report.topology.unbalanced_edges,
         exact_report.topology.misoriented_edges
     );
+    assert_no_self_intersection(&exact, "exact union of boxes");
     let (volume_e, volume_o) = (exact_volume(&exact), exact_volume(&ortho));
     assert!(
         volume_e == volume_o,

@@ -20,7 +20,7 @@ use num_rational::BigRational;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
-use crate::util::{exact_volume, rotation, transformed};
+use crate::util::{assert_no_self_intersection, exact_volume, rotation, transformed};
 
 use Operation::{Difference, Intersection, Union};
 
@@ -166,6 +166,7 @@ fn solid(op: Operation, operands: &[&Mesh]) -> Mesh {
         report.topology.unbalanced_edges,
         report.topology.misoriented_edges
     );
+    assert_no_self_intersection(&result.mesh, &format!("{op:?}"));
     result.mesh
 }
 

@@ -15,7 +15,10 @@ use csgkit::csg::primitives::{cuboid, cylinder};
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::BoundingBox;
 
-use crate::util::{bbox, diagonal, load, rotation, shared_data, transformed, translated};
+use crate::util::{
+    assert_no_self_intersection, bbox, diagonal, load, rotation, shared_data, transformed,
+    translated,
+};
 
 use Operation::{Difference, Intersection, Union};
 
@@ -70,6 +73,7 @@ fn volume_of(what: &str, op: Operation, operands: &[&Mesh], options: &BooleanOpt
         report.topology.boundary_edges,
         report.topology.misoriented_edges
     );
+    assert_no_self_intersection(&result.mesh, &format!("{what}: {op:?}"));
     report.measures.volume
 }
 

@@ -133,3 +133,15 @@ pub fn diagonal(b: &csgkit::mesh::BoundingBox) -> f64 {
         .sum::<f64>()
         .sqrt()
 }
+
+/// Asserts the exact self-intersection check finds nothing in `mesh` (every output of the
+/// exact engine is certified so).
+pub fn assert_no_self_intersection(mesh: &csgkit::Mesh, what: &str) {
+    let found = csgkit::self_intersections(mesh);
+    assert!(
+        found.is_empty(),
+        "{what}: {} self-intersecting face pairs, first {:?}",
+        found.pair_count(),
+        found.pairs.iter().take(5).collect::<Vec<_>>()
+    );
+}
