@@ -99,8 +99,18 @@ const REROUND_PASSES: [Reround; 3] = [
     },
 ];
 
+/// Faces re-rounding may look at in one certification, over all candidate positions (about a
+/// second): what it has not cleared by then is left to snapping, rather than searched on.
+const REROUND_BUDGET: u64 = 5_000_000;
+
 /// The farthest re-rounding, in f64 steps per coordinate.
 pub(crate) const REROUND_MAX_STEPS: u32 = 4;
+
+/// Checks of the rounded mesh one certification may make (each followed by a repair), and
+/// exact re-refinements among them: bounds on its cost, after which it fails rather than
+/// search on.
+const MAX_ITERATIONS: usize = 64;
+const MAX_REFINEMENTS: usize = 8;
 
 /// Rounds of snapping and re-refinement on one grid before a coarser one is tried.
 pub(crate) const ROUNDS_PER_LEVEL: usize = 3;
@@ -167,10 +177,17 @@ pub(crate) fn certify(
     } = rounded;
     let mut level = 0;
     let mut rounds_at_level = 0;
-    loop {
+    let work = std::cell::Cell::new(0u64);
+    for _ in 0..MAX_ITERATIONS {
         let problems = find_problems(&mesh, &moved);
         if problems.is_empty() {
             return Ok((mesh, certificate));
+        }
+        if certificate.rounds >= MAX_REFINEMENTS {
+            return Err(BooleanError::NotCertified {
+                crossing_pairs: problems.crossing_pairs,
+                degenerate_faces: problems.degenerate_faces,
+            });
         }
         if !problems.coincident.is_empty() {
             // Two exact points rounded to one f64 point: they are one vertex of the f64
@@ -181,7 +198,7 @@ pub(crate) fn certify(
         // Each successful re-rounding clears the faces of one vertex and breaks none, so
         // this repeats only while it helps.
         let progress = REROUND_PASSES.iter().find_map(|pass| {
-            let (count, displacement) = reround(&mut mesh, pass, &moved, &problems);
+            let (count, displacement) = reround(&mut mesh, pass, &moved, &problems, &work);
             (count > 0).then_some((count, displacement))
         });
         if let Some((count, displacement)) = progress {
@@ -256,6 +273,14 @@ pub(crate) fn certify(
             certificate.record_snap(new_points.len(), displacement);
         }
     }
+    let problems = find_problems(&mesh, &moved);
+    if problems.is_empty() {
+        return Ok((mesh, certificate));
+    }
+    Err(BooleanError::NotCertified {
+        crossing_pairs: problems.crossing_pairs,
+        degenerate_faces: problems.degenerate_faces,
+    })
 }
 
 impl Certificate {
@@ -394,7 +419,13 @@ fn problems_among(
 /// corner landed on the wrong side of the opposite edge by an ulp: the other rounding fixes it
 /// without moving anything else. Returns how many vertices moved and the largest move
 /// relative to the bounding box diagonal.
-fn reround(mesh: &mut Mesh, pass: &Reround, moved: &[bool], problems: &Problems) -> (usize, f64) {
+fn reround(
+    mesh: &mut Mesh,
+    pass: &Reround,
+    moved: &[bool],
+    problems: &Problems,
+    work: &std::cell::Cell<u64>,
+) -> (usize, f64) {
     let vertices: Vec<u32> = (problems.to_snap.iter())
         .copied()
         .filter(|&v| pass.any_vertex || moved[v as usize])
@@ -427,6 +458,9 @@ fn reround(mesh: &mut Mesh, pass: &Reround, moved: &[bool], problems: &Problems)
     let diagonal = diagonal_of(positions);
     let (mut count, mut largest_move) = (0, 0.0f64);
     for v in vertices {
+        if work.get() > REROUND_BUDGET {
+            break;
+        }
         let around = &faces_of[&v];
         let local = faces_near(positions, &corners, around, margin, Some(&region));
         let corners_of = |f: u32| {
@@ -441,7 +475,15 @@ fn reround(mesh: &mut Mesh, pass: &Reround, moved: &[bool], problems: &Problems)
                 Triangle::new(f, ids, ids.map(|u| positions[u as usize]))
             })
             .collect();
+        let other_boxes: Vec<Aabb> = (others.iter())
+            .map(|t| Aabb::from_points(t.positions().iter()))
+            .collect();
         let fine = |positions: &[Point3]| {
+            // Every face near v is looked at (its box at least) once per candidate.
+            work.set(work.get() + local.len() as u64);
+            if work.get() > REROUND_BUDGET {
+                return false;
+            }
             let p = positions[v as usize];
             let coincident = (local.iter().flat_map(|&f| corners_of(f)))
                 .any(|u| u != v && positions[u as usize] == p);
@@ -456,8 +498,11 @@ fn reround(mesh: &mut Mesh, pass: &Reround, moved: &[bool], problems: &Problems)
                 .collect();
             let Some(mine) = mine else { return false };
             let crossing = (mine.iter().enumerate()).any(|(i, a)| {
-                others
-                    .iter()
+                let a_box = Aabb::from_points(a.positions().iter());
+                let near_others = (others.iter().zip(&other_boxes))
+                    .filter(|(_, b)| b.overlaps(&a_box))
+                    .map(|(t, _)| t);
+                near_others
                     .chain(&mine[i + 1..])
                     .any(|b| pair_intersects(a, b))
             });
@@ -721,7 +766,9 @@ mod tests {
         let moved = [false, false, false, true];
         let problems = find_problems(&mesh, &moved);
         assert_eq!(problems.crossing_pairs, 1);
-        let (count, displacement) = reround(&mut mesh, &REROUND_PASSES[0], &moved, &problems);
+        let work = std::cell::Cell::new(0);
+        let (count, displacement) =
+            reround(&mut mesh, &REROUND_PASSES[0], &moved, &problems, &work);
         assert_eq!(count, 1);
         assert!(displacement > 0.0 && displacement < 1e-15);
         assert!(find_problems(&mesh, &moved).is_empty());
