@@ -141,17 +141,15 @@ struct Problems {
     crossing_pairs: usize,
     /// Faces whose corners are exactly collinear (distinct positions).
     degenerate_faces: usize,
-    /// Distinct vertices at the same position.
-    coincident_vertices: usize,
     /// The vertices to snap: those of crossing and degenerate faces, sorted, without repeats.
     to_snap: Vec<u32>,
-    /// Vertices at the position of another vertex.
+    /// Vertices at the position of another vertex (distinct ids, one position).
     coincident: Vec<u32>,
 }
 
 impl Problems {
     fn is_empty(&self) -> bool {
-        self.crossing_pairs == 0 && self.degenerate_faces == 0 && self.coincident_vertices == 0
+        self.crossing_pairs == 0 && self.degenerate_faces == 0 && self.coincident.is_empty()
     }
 }
 
@@ -407,7 +405,6 @@ fn problems_among(
     Problems {
         crossing_pairs: pairs.len(),
         degenerate_faces: degenerate.len(),
-        coincident_vertices: coincident.len(),
         to_snap,
         coincident,
     }
@@ -749,7 +746,7 @@ mod tests {
         let mesh = Mesh::from_triangles(positions, &[[0, 1, 2], [0, 3, 4]]).expect("in range");
         let problems = find_problems(&mesh, &[false, true, false, true, false]);
         assert_eq!(problems.degenerate_faces, 1);
-        assert_eq!(problems.coincident_vertices, 1);
+        assert_eq!(problems.coincident.len(), 1);
     }
 
     #[test]

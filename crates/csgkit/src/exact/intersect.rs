@@ -118,6 +118,11 @@ impl Triangle {
         self.drop
     }
 
+    /// [`orient2d_projected`] of the vertices along [`Triangle::drop_axis`]: never zero.
+    pub(crate) fn turn(&self) -> Sign {
+        self.turn
+    }
+
     /// The caller's id of this triangle.
     pub fn id(&self) -> u32 {
         self.id

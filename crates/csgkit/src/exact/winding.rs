@@ -117,7 +117,7 @@ impl<'a> RayCaster<'a> {
         let axis = tri.drop_axis();
         let a = axis.index();
         let (u, v) = ((a + 1) % 3, (a + 2) % 3);
-        let turn = orient2d_projected_explicit(tri, axis);
+        let turn = tri.turn();
         let positions = tri.positions();
         let (lo, hi) = (positions.iter())
             .map(|q| q[a])
@@ -197,11 +197,6 @@ fn ray_meets(other: &Triangle, uv: [usize; 2], c: [f64; 2], p: &Point, turn: Sig
     }
 }
 
-fn orient2d_projected_explicit(tri: &Triangle, axis: crate::kernel::Axis) -> Sign {
-    let [a, b, c] = tri.positions().map(Point::Explicit);
-    orient2d_projected(&a, &b, &c, axis)
-}
-
 /// Barycentric weights of the candidate sample points of a sub-triangle, tried in order.
 const SAMPLE_WEIGHTS: [[f64; 3]; 7] = [
     [1.0, 1.0, 1.0],
@@ -224,7 +219,7 @@ pub(crate) fn sample_point(
     let axis = tri.drop_axis();
     let a = axis.index();
     let approx = corners.map(|p| p.approx());
-    let turn = orient2d_projected_explicit(tri, axis);
+    let turn = tri.turn();
     // The centroid first, then points nearer each corner and each edge: a thin sub-triangle
     // may hold an f64 point away from its centroid.
     let c = SAMPLE_WEIGHTS.iter().find_map(|w| {
@@ -484,7 +479,7 @@ fn decide(
 fn patch_at(input: &Input, arr: &Arrangement, patch_of: &[u32], t: u32, c: &Point3) -> Option<u32> {
     let tri = &input.triangles[t as usize];
     let axis = tri.drop_axis();
-    let turn = orient2d_projected_explicit(tri, axis);
+    let turn = tri.turn();
     let at = Point::Explicit(*c);
     let range = arr.sub_starts[t as usize] as usize..arr.sub_starts[t as usize + 1] as usize;
     range
