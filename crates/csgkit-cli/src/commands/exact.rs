@@ -212,6 +212,7 @@ fn stats_json(
         "output_triangles": s.output_triangles,
         "rounded_vertices": s.rounded_vertices,
         "snapped_vertices": s.snapped_vertices,
+        "dissolved_slivers": s.dissolved_slivers,
         "max_snap_displacement": s.max_snap_displacement,
         "certify_rounds": s.certify_rounds,
         "output_vertices": result.mesh.vertex_count(),

@@ -123,8 +123,12 @@ pub struct BooleanStats {
     /// Output vertices moved to a coarser grid because rounding made faces cross or
     /// collapse (0 almost always; see the certify stage).
     pub snapped_vertices: usize,
-    /// The largest distance a snapped vertex moved, relative to the diagonal of the result's
-    /// bounding box.
+    /// Slivers thinner than the f64 grid that certification removed (a short side collapsed
+    /// or a needle flipped away; see the certify stage).
+    pub dissolved_slivers: usize,
+    /// The largest distance certification moved the surface (a re-rounded or snapped vertex,
+    /// a collapsed side, a flipped needle), relative to the diagonal of the result's bounding
+    /// box.
     pub max_snap_displacement: f64,
     /// Rounds of snapping and exact re-refinement certification needed.
     pub certify_rounds: usize,
@@ -291,6 +295,7 @@ pub fn boolean(
     stats.snapped_vertices = certificate.snapped_vertices;
     stats.max_snap_displacement = certificate.max_snap_displacement;
     stats.certify_rounds = certificate.rounds;
+    stats.dissolved_slivers = certificate.dissolved_slivers;
     if options.split_non_manifold {
         mesh = crate::mesh::split_non_manifold(&mesh);
     }

@@ -246,6 +246,35 @@ fn same_plane(x: &[Point3; 3], y: &[Point3; 3]) -> bool {
         .all(|&p| crate::kernel::orient3d(y[0], y[1], y[2], p) == Sign::Zero)
 }
 
+/// The height below which a triangle of f64 approximations is flat, relative to its largest
+/// coordinate magnitude: a few ulps, where rounding its corners may turn it over.
+const FLAT_HEIGHT: f64 = 16.0 * f64::EPSILON;
+
+/// Whether the triangle `p q r` of f64 approximations is flat: its height over its longest
+/// side below [`FLAT_HEIGHT`] of its largest coordinate (its exact orientation on these
+/// approximations may even be zero or reversed).
+fn is_flat(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> bool {
+    height(p, q, r) < FLAT_HEIGHT * magnitude(&[p, q, r])
+}
+
+/// The height of the triangle `p q r` over its longest side (0 when its corners are equal;
+/// NaN for non-finite input, which no comparison accepts).
+fn height(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
+    let twice_area = robust::orient2d(to_coord(p), to_coord(q), to_coord(r)).abs();
+    let side = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).hypot(u[1] - v[1]);
+    let longest = side(p, q).max(side(q, r)).max(side(r, p));
+    if longest > 0.0 {
+        twice_area / longest
+    } else {
+        0.0
+    }
+}
+
+/// The largest coordinate magnitude of `points`.
+fn magnitude(points: &[[f64; 2]]) -> f64 {
+    points.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
 fn to_coord(p: [f64; 2]) -> robust::Coord<f64> {
     robust::Coord { x: p[0], y: p[1] }
 }
@@ -374,14 +403,22 @@ impl<'a> Cdt<'a> {
     }
 
     /// Step 5: Lawson flips of unconstrained interior edges towards the Delaunay
-    /// triangulation, so the output has as few slivers as its constraints allow (a sliver
-    /// whose corner rounding to f64 moves across the opposite edge folds the result).
+    /// triangulation, then away from triangles that are flat in f64, so the output has as few
+    /// slivers as its constraints allow (a sliver whose corner rounding to f64 moves across
+    /// the opposite edge folds the result).
     ///
     /// Which diagonal of a quadrilateral to keep is a choice of shape, not of topology: it is
-    /// made by the in-circle test on f64 approximations of the points, and a flip is done
-    /// only when both new triangles are positively oriented by the exact predicate, so every
-    /// state is a valid triangulation of the same region with the same constrained edges. A
-    /// flip budget stops the (rare) cycles that inexact in-circle answers could cause.
+    /// made on f64 approximations of the points, and a flip is done only when both new
+    /// triangles are positively oriented by the exact predicate, so every state is a valid
+    /// triangulation of the same region with the same constrained edges.
+    /// - **Delaunay**, by the in-circle test, among triangles that are not flat (lower than
+    ///   [`FLAT_HEIGHT`] relative to their coordinates). A flip budget stops the (rare)
+    ///   cycles that inexact answers could cause.
+    /// - **Unflattening**: where a triangle is flat, the in-circle test reads rounding noise.
+    ///   There a flip is done when it leaves fewer flat triangles in the pair, so the count
+    ///   of flat triangles only falls and this phase ends. Flat triangles are what rounding
+    ///   folds: three intersection points along one nearly straight curve, like the
+    ///   crossings of a drill with the fan of a face that an earlier boolean rounded.
     fn improve(&mut self) {
         if self.tris.len() < 2 {
             return;
@@ -394,10 +431,35 @@ impl<'a> Cdt<'a> {
                 [p[u], p[v]]
             })
             .collect();
+        let budget = 16 * self.tris.len() + 64;
+        self.flip_while(&coords, budget, |[pa, pb, pc, pd]| {
+            let flat = is_flat(pa, pb, pc)
+                || is_flat(pb, pd, pc)
+                || is_flat(pa, pb, pd)
+                || is_flat(pa, pd, pc);
+            let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
+            let inside = robust::incircle(to_coord(pa), to_coord(pb), to_coord(pc), to_coord(pd));
+            !flat && inside * turn > 0.0
+        });
+        self.flip_while(&coords, budget, |[pa, pb, pc, pd]| {
+            let now = usize::from(is_flat(pa, pb, pc)) + usize::from(is_flat(pb, pd, pc));
+            let after = usize::from(is_flat(pa, pb, pd)) + usize::from(is_flat(pa, pd, pc));
+            after < now
+        });
+    }
+
+    /// Flips edges while `wanted` says so and the budget lasts: for the quadrilateral
+    /// `[a, b, c, d]` of the triangles `a b c` and `d c b` (approximations), whether to
+    /// replace the diagonal `b c` by `a d`.
+    fn flip_while(
+        &mut self,
+        coords: &[[f64; 2]],
+        mut budget: usize,
+        wanted: impl Fn([[f64; 2]; 4]) -> bool,
+    ) {
         let mut stack: Vec<(u32, usize)> = (0..self.tris.len() as u32)
             .flat_map(|t| (0..3).map(move |i| (t, i)))
             .collect();
-        let mut budget = 16 * self.tris.len() + 64;
         while let Some((t, i)) = stack.pop() {
             if budget == 0 {
                 break;
@@ -413,10 +475,7 @@ impl<'a> Cdt<'a> {
                 continue;
             };
             let d = other.v[j];
-            let [pa, pb, pc, pd] = [a, b, c, d].map(|x| coords[x as usize]);
-            let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
-            let inside = robust::incircle(to_coord(pa), to_coord(pb), to_coord(pc), to_coord(pd));
-            if inside * turn <= 0.0 || inside.is_nan() || turn.is_nan() {
+            if !wanted([a, b, c, d].map(|x| coords[x as usize])) {
                 continue;
             }
             if self.orient(a, b, d) != Sign::Positive || self.orient(a, d, c) != Sign::Positive {

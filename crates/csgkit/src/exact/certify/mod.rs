@@ -14,7 +14,9 @@
 //! ulp per coordinate, re-rounding by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at
 //! most half a grid step per level, the steps doubling up to `2^MAX_SNAP_LEVEL` ulps of the
 //! largest coordinate magnitude `M`) by at most `2^MAX_SNAP_LEVEL` ulps of `M` in all: every
-//! coordinate stays within `2^-27 · M` of the exact result. If that is not enough, the stage
+//! coordinate stays within `2^-27 · M` of the exact result. Removing a sliver moves the
+//! surface by less than the tolerance it was found with, at most `2^MAX_SNAP_LEVEL` ulps of
+//! `M`. If that is not enough, the stage
 //! fails with [`BooleanError::NotCertified`] rather than return an invalid mesh.
 //!
 //! # Algorithm
@@ -31,12 +33,16 @@
 //!    ulps away where its faces have no problem with the faces around them (rounded points
 //!    first, then any vertex); most folds are a sliver corner rounded across the opposite
 //!    edge. Merge vertices that rounded to one position. Repeat from 1 while this helps.
-//! 4. **Snap** the vertices near crossing and degenerate faces to a coarser grid, the multiples
+//! 4. **Dissolve slivers** ([`slivers`]): a face thinner than the f64 grid folds whatever its
+//!    corners' rounding; around the problem vertices, collapse sides and flip needles lower
+//!    than a tolerance (from a few ulps up to the coarsest snap grid, [`SLIVER_LEVELS`]),
+//!    each change checked exactly. Repeat from 1 while this helps.
+//! 5. **Snap** the vertices near crossing and degenerate faces to a coarser grid, the multiples
 //!    of `2^level` ulps of the largest coordinate magnitude (exact: a power of two), `level`
 //!    growing by [`SNAP_LEVEL_STEP`] after [`ROUNDS_PER_LEVEL`] rounds (the first rounds
 //!    re-refine without snapping). The whole neighbourhood moves, so no face tilts between
 //!    a snapped and an unsnapped corner.
-//! 5. **Re-refine**: the snapped soup is one operand of a union under the positive winding
+//! 6. **Re-refine**: the snapped soup is one operand of a union under the positive winding
 //!    rule, computed exactly by the same pipeline (its crossing faces are intersected with
 //!    each other, folds that turned inside out are outside, coincident vertices are welded,
 //!    collapsed and degenerate faces dropped); its new intersection points are snapped to
@@ -44,17 +50,14 @@
 //!    with those points as the moved vertices. A re-refinement that fails moves to the next
 //!    grid.
 //!
-//! Known limit: where two intersection curves of one face run closer than an ulp for a long
-//! stretch (repeated drilling along nearly the same path), steps 4–5 may not converge within
-//! [`MAX_SNAP_LEVEL`]; the result is then an error, never an invalid mesh.
-//!
 //! Where rounding folds nothing (nearly always), the stage is step 1 alone.
 //!
 //! # Complexity
 //! Step 1: a tree over the moved faces (few: those around intersection curves) and one
 //! query per face, then the exact test on the neighbourhood. Step 3 tries at most a few
-//! hundred positions per problem vertex against its neighbourhood. Steps 4–5 run only when
-//! re-rounding cannot help, and cost one exact boolean of the result with itself per round.
+//! hundred positions per problem vertex against its neighbourhood. Step 4 builds a tree over
+//! all faces once per call and tests each change against the faces around it. Steps 5–6 run
+//! only when re-rounding and sliver removal cannot help, and cost one exact boolean of the result with itself per round.
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
@@ -67,6 +70,8 @@ use super::assemble::Rounded;
 use super::boolean::BooleanError;
 use super::intersect::Triangle;
 use super::self_intersect::pair_intersects;
+
+mod slivers;
 
 /// Snap levels grow by this many doublings of the grid each round.
 pub(crate) const SNAP_LEVEL_STEP: i32 = 4;
@@ -119,6 +124,11 @@ pub(crate) const ROUNDS_PER_LEVEL: usize = 3;
 /// magnitude (with a 53-bit significand, steps of `2^(MAX_SNAP_LEVEL − 52)` of it).
 pub(crate) const MAX_SNAP_LEVEL: i32 = 24;
 
+/// The tolerances of sliver removal, in ulps of the largest coordinate magnitude (as
+/// `log2`), tried in order until one removes something: sides and heights far below an ulp
+/// first, up to the coarsest snap grid.
+const SLIVER_LEVELS: [i32; 4] = [2, 10, 18, MAX_SNAP_LEVEL];
+
 /// What certification did, for the statistics.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Certificate {
@@ -132,6 +142,8 @@ pub(crate) struct Certificate {
     pub max_snap_displacement: f64,
     /// Rounds of snapping and re-refinement (0 when rounding folded nothing).
     pub rounds: usize,
+    /// Slivers removed by collapsing a short side or flipping a needle.
+    pub dissolved_slivers: usize,
 }
 
 /// What is wrong with a rounded mesh.
@@ -201,6 +213,23 @@ pub(crate) fn certify(
         });
         if let Some((count, displacement)) = progress {
             certificate.record_snap(count, displacement);
+            continue;
+        }
+        // Faces thinner than the f64 grid fold whatever their corners' rounding: they go.
+        let diagonal = diagonal_of(mesh.positions());
+        let dissolved = SLIVER_LEVELS.iter().find_map(|&level| {
+            let tolerance = grid_step(mesh.positions(), level);
+            let done = slivers::dissolve(&mut mesh, &mut moved, &problems.to_snap, tolerance);
+            (done.changes > 0).then_some(done)
+        });
+        if let Some(done) = dissolved {
+            certificate.dissolved_slivers += done.changes;
+            let relative = if diagonal > 0.0 {
+                done.displacement / diagonal
+            } else {
+                0.0
+            };
+            certificate.max_snap_displacement = certificate.max_snap_displacement.max(relative);
             continue;
         }
         let mut soup = mesh.clone();
@@ -655,16 +684,9 @@ fn neighbourhood_vertices(mesh: &Mesh, vertices: &[u32]) -> Vec<u32> {
 /// mesh's bounding box.
 fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32) -> f64 {
     let mut parts = std::mem::take(mesh).into_parts();
-    let largest = (parts.positions.iter().flatten()).fold(0.0f64, |m, x| m.max(x.abs()));
     let diagonal = diagonal_of(&parts.positions);
-    // ulp(largest) = 2^(exponent − 52); the grid step is 2^level of those, a power of two,
-    // so x / step, its rounding and the product back are exact.
-    let exponent = if largest > 0.0 {
-        largest.log2().floor() as i32
-    } else {
-        0
-    };
-    let step = 2f64.powi(exponent - 52 + level);
+    // A power of two, so x / step, its rounding and the product back are exact.
+    let step = grid_step(&parts.positions, level);
     let mut displacement = 0.0f64;
     for &v in vertices {
         let p = &mut parts.positions[v as usize];
@@ -679,6 +701,18 @@ fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32) -> f64 {
     } else {
         0.0
     }
+}
+
+/// `2^level` ulps of the largest coordinate magnitude of `positions`: ulp(M) = 2^(e − 52)
+/// for M in [2^e, 2^(e+1)).
+fn grid_step(positions: &[Point3], level: i32) -> f64 {
+    let largest = (positions.iter().flatten()).fold(0.0f64, |m, x| m.max(x.abs()));
+    let exponent = if largest > 0.0 {
+        largest.log2().floor() as i32
+    } else {
+        0
+    };
+    2f64.powi(exponent - 52 + level)
 }
 
 /// `refined` (a boolean of `soup` alone, whose provenance names faces of `soup`) with the
