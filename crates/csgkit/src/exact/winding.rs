@@ -14,8 +14,7 @@
 //! In: the arrangement of every intersecting pair (across operands and within one), so no
 //! surface crosses the interior of a sub-triangle. Out: the kept sub-triangles and their
 //! orientation. The interior of operand `k` is where its winding number `w_k` satisfies the
-//! [`WindingRule`]: non-zero (the default, libigl's and Blender Exact's rule for
-//! self-intersecting input) or positive.
+//! [`WindingRule`]: non-zero (the default) or positive (libigl's `mesh_boolean` rule).
 //!
 //! # Algorithm
 //! Per patch (sub-triangles connected without crossing any surface, `classify::patches`):
@@ -59,10 +58,13 @@ use super::subdivide::Arrangement;
 /// Which winding numbers count as inside an operand.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum WindingRule {
-    /// Inside where the winding number is not zero (libigl's and Blender Exact's rule).
+    /// Inside where the winding number is not zero. Where an inverted pocket (winding −1)
+    /// touches a region of winding 1 along an edge, the interior is pinched there and the
+    /// boundary has non-manifold edges.
     #[default]
     NonZero,
-    /// Inside where the winding number is positive: inverted pockets are outside.
+    /// Inside where the winding number is positive (libigl's `mesh_boolean` rule): inverted
+    /// pockets are outside.
     Positive,
 }
 
