@@ -6,37 +6,14 @@
 //! and the volumes are compared with `==`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use csgkit::csg::primitives::cuboid;
 use csgkit::{Mesh, WriteOptions, self_intersections, write_mesh};
 use serde_json::Value;
 use tempfile::TempDir;
 
-/// Runs the built binary with `args`.
-fn csgkit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_csgkit"))
-        .args(args)
-        .output()
-        .expect("the csgkit binary runs")
-}
-
-/// Runs the built binary and asserts that it succeeds.
-fn csgkit_ok(args: &[&str]) -> Output {
-    let output = csgkit(args);
-    assert!(
-        output.status.success(),
-        "csgkit {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    output
-}
-
-/// A path as the `&str` the command line takes.
-fn arg(path: &Path) -> &str {
-    path.to_str().expect("temporary paths are UTF-8")
-}
+mod common;
+use common::{arg, csgkit, csgkit_ok};
 
 /// The meshes as one: vertices and triangles concatenated, nothing welded or resolved.
 fn one_mesh(parts: &[Mesh]) -> Mesh {
