@@ -30,7 +30,8 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
 use crate::util::{
-    bbox, diagonal, exact_volume, load, rotation, shared_data, transformed, translated,
+    assert_close, bbox, diagonal, exact_volume, load, rotation, shared_data, transformed,
+    translated,
 };
 
 use Operation::{Difference, Intersection, Union};
@@ -50,16 +51,6 @@ const MAX_SNAP_DISPLACEMENT: f64 = 1.0 / (1u64 << 28) as f64;
 
 fn volume(mesh: &Mesh) -> f64 {
     mesh.report().measures.volume
-}
-
-/// Asserts `|x − y| ≤ VOLUME_TOLERANCE · scale`.
-fn assert_close(x: f64, y: f64, scale: f64, what: &str) {
-    assert!(
-        (x - y).abs() <= VOLUME_TOLERANCE * scale,
-        "{what}: {x} vs {y} (difference {:e}, allowed {:e})",
-        (x - y).abs(),
-        VOLUME_TOLERANCE * scale
-    );
 }
 
 /// Asserts `mesh` is what the certify stage promises: closed and oriented, no degenerate face,
@@ -196,10 +187,17 @@ fn overlapping_icospheres_as_one_mesh_resolve_to_their_union() {
         assert!(stats.self_intersecting_pairs > 0, "{rule:?}: {stats:?}");
         assert!(stats.winding_classification, "{rule:?}: {stats:?}");
         let v = volume(&resolved.mesh);
-        assert_close(v, union, scale, &format!("{rule:?}: resolved vs s1 ∪ s2"));
+        assert_close(
+            v,
+            union,
+            VOLUME_TOLERANCE,
+            scale,
+            &format!("{rule:?}: resolved vs s1 ∪ s2"),
+        );
         assert_close(
             v + intersection,
             v1 + v2,
+            VOLUME_TOLERANCE,
             scale,
             &format!("{rule:?}: vol(resolved) + vol(s1 ∩ s2) vs vol(s1) + vol(s2)"),
         );
@@ -399,6 +397,7 @@ fn check_case(what: &str, a: &Mesh, b: &Mesh, ra: f64, rb: f64, difference: bool
     assert_close(
         union + intersection,
         ra + rb,
+        VOLUME_TOLERANCE,
         scale,
         &format!("{what}: vol(A∪B) + vol(A∩B) vs vol(res A) + vol(res B)"),
     );
@@ -408,6 +407,7 @@ fn check_case(what: &str, a: &Mesh, b: &Mesh, ra: f64, rb: f64, difference: bool
         assert_close(
             minus,
             ra - intersection,
+            VOLUME_TOLERANCE,
             ra.abs(),
             &format!("{what}: vol(A−B) vs vol(res A) − vol(A∩B)"),
         );
@@ -677,8 +677,8 @@ proptest! {
         let intersection = volume(&certified("pair", Intersection, &[&a, &b], &options).mesh);
         let difference = volume(&certified("pair", Difference, &[&a, &b], &options).mesh);
         let scale = va + vb;
-        assert_close(union + intersection, va + vb, scale, "vol(A∪B) + vol(A∩B) vs vol(A) + vol(B)");
-        assert_close(difference, va - intersection, scale, "vol(A−B) vs vol(A) − vol(A∩B)");
+        assert_close(union + intersection, va + vb, VOLUME_TOLERANCE, scale, "vol(A∪B) + vol(A∩B) vs vol(A) + vol(B)");
+        assert_close(difference, va - intersection, VOLUME_TOLERANCE, scale, "vol(A−B) vs vol(A) − vol(A∩B)");
     }
 
     /// Six steps, each combining the previous result with a new primitive: every result is a
@@ -826,6 +826,7 @@ fn cuts_through_files_match_one_n_ary_difference() {
     assert_close(
         chained,
         at_once,
+        VOLUME_TOLERANCE,
         volume(&cube),
         "chained vs n-ary difference",
     );

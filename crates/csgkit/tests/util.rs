@@ -145,3 +145,14 @@ pub fn assert_no_self_intersection(mesh: &csgkit::Mesh, what: &str) {
         found.pairs.iter().take(5).collect::<Vec<_>>()
     );
 }
+
+/// Asserts `|x − y| ≤ tolerance · scale`: a volume compared with another to a relative
+/// tolerance of the operands' volumes (`scale`).
+pub fn assert_close(x: f64, y: f64, tolerance: f64, scale: f64, what: &str) {
+    assert!(
+        (x - y).abs() <= tolerance * scale,
+        "{what}: {x} vs {y} (difference {:e}, allowed {:e})",
+        (x - y).abs(),
+        tolerance * scale
+    );
+}

@@ -217,12 +217,9 @@ pub(crate) fn certify(
         }
         // Faces thinner than the f64 grid fold whatever their corners' rounding: they go.
         let diagonal = diagonal_of(mesh.positions());
-        let dissolved = SLIVER_LEVELS.iter().find_map(|&level| {
-            let tolerance = grid_step(mesh.positions(), level);
-            let done = slivers::dissolve(&mut mesh, &mut moved, &problems.to_snap, tolerance);
-            (done.changes > 0).then_some(done)
-        });
-        if let Some(done) = dissolved {
+        let tolerances = SLIVER_LEVELS.map(|level| grid_step(mesh.positions(), level));
+        let done = slivers::dissolve(&mut mesh, &mut moved, &problems.to_snap, &tolerances);
+        if done.changes > 0 {
             certificate.dissolved_slivers += done.changes;
             let relative = if diagonal > 0.0 {
                 done.displacement / diagonal

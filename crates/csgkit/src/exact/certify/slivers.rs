@@ -43,42 +43,48 @@ pub(super) struct Dissolved {
     pub displacement: f64,
 }
 
-/// Collapses the sides shorter than `tolerance` and flips the needles lower than `tolerance`
-/// among the faces around `vertices` (sorted), thinnest first, where the exact check allows
-/// it; marks the vertices of every changed face as moved, so the next check looks at them.
-/// `moved` is remapped with the mesh when vertices go.
+/// Collapses the sides shorter than the tolerance and flips the needles lower than it among
+/// the faces around `vertices` (sorted), thinnest first, where the exact check allows it,
+/// trying `tolerances` in order until one changes something; marks the vertices of every
+/// changed face as moved, so the next check looks at them. `moved` is remapped with the mesh
+/// when vertices go.
 pub(super) fn dissolve(
     mesh: &mut Mesh,
     moved: &mut Vec<bool>,
     vertices: &[u32],
-    tolerance: f64,
+    tolerances: &[f64],
 ) -> Dissolved {
     let mut surface = Surface::new(mesh);
-    let mut candidates: Vec<(f64, u32)> = (vertices.iter())
+    let around: FxHashSet<u32> = (vertices.iter())
         .flat_map(|&v| surface.faces_of[v as usize].iter().copied())
-        .collect::<FxHashSet<u32>>()
-        .into_iter()
-        .filter_map(|f| {
-            let shape = surface.shape(f);
-            (shape.thinness() < tolerance).then_some((shape.thinness(), f))
-        })
         .collect();
-    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut done = Dissolved::default();
-    for (_, f) in candidates {
-        if !surface.alive[f as usize] {
-            continue;
-        }
-        let shape = surface.shape(f);
-        let changed = surface
-            .collapse_short_side(f, &shape, tolerance, moved)
-            .or_else(|| (shape.height < tolerance).then(|| surface.flip_needle(f, &shape))?);
-        if let Some((touched, displacement)) = changed {
-            for v in touched {
-                moved[v as usize] = true;
+    for &tolerance in tolerances {
+        let mut candidates: Vec<(f64, u32)> = (around.iter())
+            .filter_map(|&f| {
+                let thinness = surface.shape(f).thinness();
+                (thinness < tolerance).then_some((thinness, f))
+            })
+            .collect();
+        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for (_, f) in candidates {
+            if !surface.alive[f as usize] {
+                continue;
             }
-            done.changes += 1;
-            done.displacement = done.displacement.max(displacement);
+            let shape = surface.shape(f);
+            let changed = surface
+                .collapse_short_side(f, &shape, tolerance, moved)
+                .or_else(|| (shape.height < tolerance).then(|| surface.flip_needle(f, &shape))?);
+            if let Some((touched, displacement)) = changed {
+                for v in touched {
+                    moved[v as usize] = true;
+                }
+                done.changes += 1;
+                done.displacement = done.displacement.max(displacement);
+            }
+        }
+        if done.changes > 0 {
+            break;
         }
     }
     if done.changes == 0 {
@@ -461,7 +467,7 @@ mod tests {
         let mut mesh = tetrahedron_with_needle([0.5, -1e-17, 0.0]);
         assert!(!self_intersections(&mesh).is_empty());
         let mut moved = vec![false; 5];
-        let done = dissolve(&mut mesh, &mut moved, &[4], 1e-15);
+        let done = dissolve(&mut mesh, &mut moved, &[4], &[1e-15]);
         assert_eq!(done.changes, 1);
         assert!(done.displacement > 0.0 && done.displacement < 1e-16);
         assert_eq!((mesh.vertex_count(), mesh.face_count()), (5, 6));
@@ -476,7 +482,7 @@ mod tests {
         let mut mesh = tetrahedron_with_needle([-1e-17, 1e-17, 0.0]);
         assert!(!self_intersections(&mesh).is_empty());
         let mut moved = vec![false, false, false, false, true];
-        let done = dissolve(&mut mesh, &mut moved, &[4], 1e-15);
+        let done = dissolve(&mut mesh, &mut moved, &[4], &[1e-15]);
         assert_eq!(done.changes, 1);
         assert_eq!((mesh.vertex_count(), mesh.face_count()), (4, 4));
         assert_valid(&mesh);
@@ -488,7 +494,7 @@ mod tests {
         let mut mesh = tetrahedron_with_needle([0.5, -1e-17, 0.0]);
         let before = mesh.clone();
         let mut moved = vec![false; 5];
-        assert_eq!(dissolve(&mut mesh, &mut moved, &[4], 1e-18).changes, 0);
+        assert_eq!(dissolve(&mut mesh, &mut moved, &[4], &[1e-18]).changes, 0);
         assert_eq!(mesh, before);
     }
 }
