@@ -279,3 +279,77 @@ fn menger_sponge_level_2() {
     assert_eq!(voxel_volume(Difference, &boxes), 400.0);
     check_boxes(Difference, &boxes);
 }
+
+/// The box `[min, max]` as six quads, material `materials[k]` on the two faces normal to axis
+/// `k`.
+fn box_of_quads(min: [f64; 3], max: [f64; 3], materials: [&str; 3]) -> Mesh {
+    let positions: Vec<[f64; 3]> = (0..8)
+        .map(|i| [0, 1, 2].map(|k| if i >> k & 1 == 1 { max[k] } else { min[k] }))
+        .collect();
+    // Outward quads: axis, side, corners (vertex index bit k = coordinate k at max).
+    let quads = [
+        (0, [0, 4, 6, 2]),
+        (0, [1, 3, 7, 5]),
+        (1, [0, 1, 5, 4]),
+        (1, [2, 6, 7, 3]),
+        (2, [0, 2, 3, 1]),
+        (2, [4, 5, 7, 6]),
+    ];
+    let mut names: Vec<String> = Vec::new();
+    let face_materials: Vec<u32> = (quads.iter())
+        .map(|&(axis, _)| {
+            let name = materials[axis].to_owned();
+            let id = names.iter().position(|n| *n == name).unwrap_or_else(|| {
+                names.push(name);
+                names.len() - 1
+            });
+            id as u32
+        })
+        .collect();
+    Mesh::from_parts(csgkit::MeshParts {
+        positions,
+        corners: quads.iter().flat_map(|(_, q)| *q).collect(),
+        face_starts: Some((0..=6).map(|f| 4 * f).collect()),
+        face_materials: Some(face_materials),
+        materials: names,
+        ..Default::default()
+    })
+    .expect("a valid box")
+}
+
+/// Every face of a result keeps the material of the face it was cut from, and one name in
+/// two operands is one material: the cube's faces are red (z), green (y) and blue (x); the
+/// box pushed into its top face is green all over, so the pocket it leaves is green.
+#[test]
+fn faces_keep_their_source_materials_merged_by_name() {
+    let cube = box_of_quads([-1.0; 3], [1.0; 3], ["blue", "green", "red"]);
+    let pushed = box_of_quads([0.0, 0.0, 0.5], [2.0, 2.0, 2.0], ["green"; 3]);
+    let result = boolean(Difference, &[&cube, &pushed], &BooleanOptions::default())
+        .expect("a difference")
+        .mesh;
+    assert_eq!(result.report().measures.volume, 8.0 - 0.5);
+    let materials = result.materials();
+    assert_eq!(
+        materials.iter().filter(|n| *n == "green").count(),
+        1,
+        "{materials:?}"
+    );
+    let ids = result.parts().face_materials.as_ref().expect("materials");
+    for (f, face) in result.faces().enumerate() {
+        let p: Vec<[f64; 3]> = face
+            .iter()
+            .map(|&v| result.positions()[v as usize])
+            .collect();
+        // The axis the face is normal to, and the coordinate of its plane.
+        let axis = (0..3)
+            .find(|&k| p.iter().all(|q| q[k] == p[0][k]))
+            .expect("every face is axis-aligned");
+        let on_cube = p[0][axis].abs() == 1.0;
+        let expected = match (axis, on_cube) {
+            (0, true) => "blue",
+            (2, true) => "red",
+            _ => "green",
+        };
+        assert_eq!(materials[ids[f] as usize], expected, "face {f}: {p:?}");
+    }
+}

@@ -280,7 +280,7 @@ pub fn boolean(
         split_non_manifold: false,
         progress: None,
     };
-    let (mut mesh, certificate) = certify::certify(rounded, |soup, suspects| {
+    let (mesh, certificate) = certify::certify(rounded, |soup, suspects| {
         let mut inner = BooleanStats::default();
         exact_result(
             Operation::Union,
@@ -296,6 +296,7 @@ pub fn boolean(
     stats.max_snap_displacement = certificate.max_snap_displacement;
     stats.certify_rounds = certificate.rounds;
     stats.dissolved_slivers = certificate.dissolved_slivers;
+    let mut mesh = crate::mesh::inherit_face_attributes(mesh, operands);
     if options.split_non_manifold {
         mesh = crate::mesh::split_non_manifold(&mesh);
     }

@@ -6,36 +6,9 @@
 //! earlier entries with a default (material or group `"default"`, white, UV `[0, 0]`,
 //! normal `[0, 0, 0]`) so that the buffer stays complete.
 
-use rustc_hash::FxHashMap;
-
 use super::error::ParseError;
+use crate::mesh::attributes::{DEFAULT_NAME, Names, WHITE};
 use crate::mesh::{Mesh, MeshParts, Rgba};
-
-/// The colour given to elements that have none when others do.
-pub(crate) const WHITE: Rgba = [255, 255, 255, 255];
-
-/// The name of the material or group of faces that come before the first one named.
-const DEFAULT_NAME: &str = "default";
-
-/// A name table with lookup by name.
-#[derive(Default)]
-pub(crate) struct Names {
-    names: Vec<String>,
-    ids: FxHashMap<String, u32>,
-}
-
-impl Names {
-    /// The id of `name`, adding it to the table if it is new.
-    pub(crate) fn id(&mut self, name: &str) -> u32 {
-        if let Some(&id) = self.ids.get(name) {
-            return id;
-        }
-        let id = u32::try_from(self.names.len()).unwrap_or(u32::MAX);
-        self.names.push(name.to_owned());
-        self.ids.insert(name.to_owned(), id);
-        id
-    }
-}
 
 /// Pushes `value` on a lazily created buffer, first filling `len` defaults if it is absent.
 #[inline]
@@ -197,8 +170,8 @@ impl MeshBuilder {
         if !self.all_triangles {
             self.parts.face_starts = Some(self.starts);
         }
-        self.parts.materials = self.materials.names;
-        self.parts.groups = self.groups.names;
+        self.parts.materials = self.materials.into_names();
+        self.parts.groups = self.groups.into_names();
         Ok(Mesh::from_parts(self.parts)?)
     }
 }

@@ -42,6 +42,7 @@
 //! [`split_non_manifold`] duplicates vertices until every edge has two uses and every vertex
 //! one fan, keeping faces and their attributes, for consumers that need a 2-manifold.
 
+pub(crate) mod attributes;
 mod degenerate;
 mod ids;
 mod manifold_split;
@@ -55,6 +56,7 @@ pub(crate) mod union_find;
 mod validation;
 mod weld;
 
+pub use attributes::inherit_face_attributes;
 pub use degenerate::{DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape};
 pub use ids::{FaceId, OperandId, VertexId};
 pub use manifold_split::split_non_manifold;
