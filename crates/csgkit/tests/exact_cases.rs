@@ -353,3 +353,94 @@ fn faces_keep_their_source_materials_merged_by_name() {
         assert_eq!(materials[ids[f] as usize], expected, "face {f}: {p:?}");
     }
 }
+
+/// The UV a face of [`box_of_quads`] gives a point: an affine function of position, a
+/// different one for each face (`q` is the face's index in its box).
+fn affine_uv(p: [f64; 3], q: usize) -> [f64; 2] {
+    let q = q as f64;
+    [p[0] + 2.0 * p[1] + 3.0 * p[2] + q, q * p[0] - p[2] + 0.5]
+}
+
+/// `mesh` (a box of quads) with corner UVs from [`affine_uv`] and corner normals along the
+/// outward normal of each face.
+fn with_affine_uvs_and_normals(mesh: Mesh) -> Mesh {
+    let mut uvs = Vec::new();
+    let mut normals = Vec::new();
+    for (q, face) in mesh.faces().enumerate() {
+        let p: Vec<[f64; 3]> = face.iter().map(|&v| mesh.positions()[v as usize]).collect();
+        let (u, w) = (
+            [0, 1, 2].map(|k| p[1][k] - p[0][k]),
+            [0, 1, 2].map(|k| p[2][k] - p[0][k]),
+        );
+        let n = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
+        let length = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for point in p {
+            let uv = affine_uv(point, q);
+            uvs.push([uv[0] as f32, uv[1] as f32]);
+            normals.push(n.map(|x| (x / length) as f32));
+        }
+    }
+    Mesh::from_parts(csgkit::MeshParts {
+        corner_uvs: Some(uvs),
+        corner_normals: Some(normals),
+        ..mesh.into_parts()
+    })
+    .expect("one UV and normal per corner")
+}
+
+/// Every corner of a result carries the UV its source face gives its position (an affine
+/// function, different on each face, so reproduced up to f32 storage) and the normal of the
+/// result's surface there: the pocket's faces, cut from the subtracted box, point the other
+/// way from their source's normals.
+#[test]
+fn corners_keep_uvs_interpolated_in_their_source_face_and_normals_follow_orientation() {
+    let cube = with_affine_uvs_and_normals(box_of_quads([-1.0; 3], [1.0; 3], ["a"; 3]));
+    let pushed =
+        with_affine_uvs_and_normals(box_of_quads([0.0, 0.0, 0.5], [2.0, 2.0, 2.0], ["b"; 3]));
+    let result = boolean(Difference, &[&cube, &pushed], &BooleanOptions::default())
+        .expect("a difference")
+        .mesh;
+    let uvs = result.corner_uvs().expect("UVs");
+    let normals = result.corner_normals().expect("normals");
+    let provenance = result.face_provenance().expect("provenance");
+    for (f, range) in
+        (0..result.face_count()).map(|f| (f, result.face_range(csgkit::FaceId::new(f))))
+    {
+        let corners = &result.corners()[range.clone()];
+        let p: Vec<[f64; 3]> = corners
+            .iter()
+            .map(|&v| result.positions()[v as usize])
+            .collect();
+        let (u, w) = (
+            [0, 1, 2].map(|k| p[1][k] - p[0][k]),
+            [0, 1, 2].map(|k| p[2][k] - p[0][k]),
+        );
+        let n = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
+        let q = provenance[f].face.index();
+        for (c, point) in range.zip(&p) {
+            let expected = affine_uv(*point, q);
+            for k in 0..2 {
+                let got = f64::from(uvs[c][k]);
+                assert!(
+                    (got - expected[k]).abs() <= 1e-6 * expected[k].abs().max(1.0),
+                    "face {f} corner {c}: UV {:?}, expected {expected:?}",
+                    uvs[c]
+                );
+            }
+            let along: f64 = (0..3).map(|k| f64::from(normals[c][k]) * n[k]).sum();
+            assert!(
+                along > 0.0,
+                "face {f}: normal {:?} against {n:?}",
+                normals[c]
+            );
+        }
+    }
+}

@@ -296,7 +296,7 @@ pub fn boolean(
     stats.max_snap_displacement = certificate.max_snap_displacement;
     stats.certify_rounds = certificate.rounds;
     stats.dissolved_slivers = certificate.dissolved_slivers;
-    let mut mesh = crate::mesh::inherit_face_attributes(mesh, operands);
+    let mut mesh = crate::mesh::inherit_attributes(mesh, operands);
     if options.split_non_manifold {
         mesh = crate::mesh::split_non_manifold(&mesh);
     }

@@ -1,10 +1,10 @@
-//! Face attributes (material, group, colour) and the name tables they index: shared by the
-//! readers, which build them, and by the engines, whose results inherit them from the faces
-//! they were cut from.
+//! Face attributes (material, group, colour), the name tables they index, and corner
+//! attributes (UV, normal): shared by the readers, which build them, and by the engines, whose
+//! results inherit them from the faces they were cut from.
 
 use rustc_hash::FxHashMap;
 
-use super::{Mesh, MeshParts, Rgba};
+use super::{FaceId, Mesh, MeshParts, Rgba, triangulate_faces_partial};
 
 /// The colour of elements that have none when others do.
 pub(crate) const WHITE: Rgba = [255, 255, 255, 255];
@@ -37,15 +37,22 @@ impl Names {
     }
 }
 
-/// `mesh` with the material, group and colour of the source face each of its faces came
-/// from, by its provenance (operand `k` is `sources[k]`, its face the source face's index).
+/// `mesh` (triangles) with the attributes of the source face each of its faces came from, by
+/// its provenance (operand `k` is `sources[k]`, its face the source face's index).
+///
+/// Face attributes (material, group, colour) are copied. Corner UVs and normals are
+/// interpolated at each corner's position in the source face, barycentrically in the
+/// triangle of the source face's triangulation that contains it (so an attribute that is
+/// affine on a source triangle comes out exact up to its f32 storage); a face whose
+/// orientation is reversed from its source's gets its normals negated. Each corner gets its
+/// own values, so UV seams stay split.
 ///
 /// Name tables are merged by name across the sources, so "green" in one operand and "green"
 /// in another are one material; a source without materials (or groups) gives its faces
 /// [`DEFAULT_NAME`], one without colours gives [`WHITE`], while any source has them. Material
 /// libraries are kept, each once. A mesh without provenance, or a provenance naming a face no
 /// source has, comes back unchanged.
-pub fn inherit_face_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
+pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
     let Some(provenance) = mesh.parts().face_provenance.as_deref() else {
         return mesh;
     };
@@ -75,6 +82,7 @@ pub fn inherit_face_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
             })
             .collect()
     });
+    let (corner_uvs, corner_normals) = interpolated_corners(&mesh, &source_faces, sources);
     let mut material_libraries: Vec<String> = Vec::new();
     for library in sources.iter().flat_map(|s| &s.parts().material_libraries) {
         if !material_libraries.contains(library) {
@@ -87,10 +95,138 @@ pub fn inherit_face_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
         face_groups,
         groups,
         face_colors,
+        corner_uvs,
+        corner_normals,
         material_libraries,
         ..mesh.into_parts()
     };
     Mesh::from_parts(parts).expect("one attribute per face, every id in its merged table")
+}
+
+/// Per corner of `mesh` (triangles), its UV and normal interpolated in its source face;
+/// `None` for an attribute no source has (corners of sources without it get zeros).
+fn interpolated_corners(
+    mesh: &Mesh,
+    source_faces: &[(usize, usize)],
+    sources: &[&Mesh],
+) -> (Option<Vec<[f32; 2]>>, Option<Vec<[f32; 3]>>) {
+    let has_uvs = sources.iter().any(|s| s.corner_uvs().is_some());
+    let has_normals = sources.iter().any(|s| s.corner_normals().is_some());
+    if !has_uvs && !has_normals {
+        return (None, None);
+    }
+    let pieces: Vec<Vec<Vec<[usize; 3]>>> = sources.iter().map(|s| source_triangles(s)).collect();
+    let mut uvs = has_uvs.then(|| Vec::with_capacity(mesh.corner_count()));
+    let mut normals = has_normals.then(|| Vec::with_capacity(mesh.corner_count()));
+    for (f, &(k, source_face)) in source_faces.iter().enumerate() {
+        let corners = mesh.face(FaceId::new(f));
+        let source = sources[k];
+        let triangles = pieces[k].get(source_face).map_or(&[][..], Vec::as_slice);
+        let at = |c: usize| source.positions()[source.corners()[c] as usize];
+        let source_normal = (triangles.iter())
+            .map(|t| normal(t.map(at)))
+            .fold([0.0; 3], |n, m| [n[0] + m[0], n[1] + m[1], n[2] + m[2]]);
+        let own =
+            normal([corners[0], corners[1], corners[2]].map(|v| mesh.positions()[v as usize]));
+        let sign = if dot(own, source_normal) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        for &v in corners {
+            let p = mesh.positions()[v as usize];
+            // The source triangle the corner is most inside of, and its weights there.
+            let weights = (triangles.iter())
+                .filter_map(|&t| barycentric(p, t.map(at), source_normal).map(|w| (t, w)))
+                .max_by(|a, b| min3(a.1).total_cmp(&min3(b.1)));
+            let mix = |value: &dyn Fn(usize) -> [f32; 3]| -> [f64; 3] {
+                let Some((t, w)) = weights else {
+                    return [0.0; 3];
+                };
+                let mut out = [0.0f64; 3];
+                for (&c, wi) in t.iter().zip(w) {
+                    for (o, x) in out.iter_mut().zip(value(c)) {
+                        *o += wi * f64::from(x);
+                    }
+                }
+                out
+            };
+            if let Some(uvs) = uvs.as_mut() {
+                let uv = source
+                    .corner_uvs()
+                    .map_or([0.0; 3], |s| mix(&|c| [s[c][0], s[c][1], 0.0]));
+                uvs.push([uv[0] as f32, uv[1] as f32]);
+            }
+            if let Some(normals) = normals.as_mut() {
+                let n = source.corner_normals().map_or([0.0; 3], |s| mix(&|c| s[c]));
+                let length = dot(n, n).sqrt();
+                let scale = if length > 0.0 { sign / length } else { 0.0 };
+                normals.push(n.map(|x| (x * scale) as f32));
+            }
+        }
+    }
+    (uvs, normals)
+}
+
+/// Each face's triangles as corner indices of `source` (none when it has no corner
+/// attributes, so nothing is interpolated from it).
+fn source_triangles(source: &Mesh) -> Vec<Vec<[usize; 3]>> {
+    if source.corner_uvs().is_none() && source.corner_normals().is_none() {
+        return Vec::new();
+    }
+    let mut of_face = vec![Vec::new(); source.face_count()];
+    for (face, triangle) in triangulate_faces_partial(source).0.iter() {
+        let range = source.face_range(face);
+        let corner = |v: u32| {
+            (range.clone())
+                .find(|&c| source.corners()[c] == v)
+                .expect("a triangle of a face uses its corners")
+        };
+        of_face[face.index()].push(triangle.map(corner));
+    }
+    of_face
+}
+
+/// The barycentric weights of `p` in the triangle `t`, in its projection along the largest
+/// component of `normal`; `None` when that projection is degenerate.
+fn barycentric(p: [f64; 3], t: [[f64; 3]; 3], normal: [f64; 3]) -> Option<[f64; 3]> {
+    let drop = (0..3)
+        .max_by(|&i, &j| normal[i].abs().total_cmp(&normal[j].abs()))
+        .unwrap_or(2);
+    let (u, v) = ((drop + 1) % 3, (drop + 2) % 3);
+    let twice_area = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+        (b[u] - a[u]) * (c[v] - a[v]) - (b[v] - a[v]) * (c[u] - a[u])
+    };
+    let total = twice_area(t[0], t[1], t[2]);
+    if total == 0.0 || !total.is_finite() {
+        return None;
+    }
+    Some([
+        twice_area(p, t[1], t[2]) / total,
+        twice_area(t[0], p, t[2]) / total,
+        twice_area(t[0], t[1], p) / total,
+    ])
+}
+
+fn min3(w: [f64; 3]) -> f64 {
+    w[0].min(w[1]).min(w[2])
+}
+
+/// The (unnormalised) normal of a triangle.
+fn normal(p: [[f64; 3]; 3]) -> [f64; 3] {
+    let (a, b) = (
+        [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]],
+        [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]],
+    );
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Per face, the id of its source face's name (through `table` of the source's parts) in one
@@ -159,7 +295,7 @@ mod tests {
             ..MeshParts::default()
         })
         .expect("in range");
-        let result = inherit_face_attributes(result, &[&a, &b, &c]);
+        let result = inherit_attributes(result, &[&a, &b, &c]);
         let names: Vec<&str> = (result.parts().face_materials.as_ref().expect("materials"))
             .iter()
             .map(|&id| result.materials()[id as usize].as_str())
@@ -173,6 +309,6 @@ mod tests {
     #[test]
     fn a_mesh_without_provenance_is_unchanged() {
         let a = with_materials(triangle(), vec![0, 1], &["green", "red"]);
-        assert_eq!(inherit_face_attributes(triangle(), &[&a]), triangle());
+        assert_eq!(inherit_attributes(triangle(), &[&a]), triangle());
     }
 }

@@ -56,7 +56,7 @@ pub(crate) mod union_find;
 mod validation;
 mod weld;
 
-pub use attributes::inherit_face_attributes;
+pub use attributes::inherit_attributes;
 pub use degenerate::{DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape};
 pub use ids::{FaceId, OperandId, VertexId};
 pub use manifold_split::split_non_manifold;
