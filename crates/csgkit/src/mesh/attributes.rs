@@ -103,13 +103,16 @@ pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
     Mesh::from_parts(parts).expect("one attribute per face, every id in its merged table")
 }
 
+/// Corner UVs and corner normals, each present or not.
+type CornerAttributes = (Option<Vec<[f32; 2]>>, Option<Vec<[f32; 3]>>);
+
 /// Per corner of `mesh` (triangles), its UV and normal interpolated in its source face;
 /// `None` for an attribute no source has (corners of sources without it get zeros).
 fn interpolated_corners(
     mesh: &Mesh,
     source_faces: &[(usize, usize)],
     sources: &[&Mesh],
-) -> (Option<Vec<[f32; 2]>>, Option<Vec<[f32; 3]>>) {
+) -> CornerAttributes {
     let has_uvs = sources.iter().any(|s| s.corner_uvs().is_some());
     let has_normals = sources.iter().any(|s| s.corner_normals().is_some());
     if !has_uvs && !has_normals {
