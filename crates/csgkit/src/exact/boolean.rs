@@ -61,6 +61,8 @@ pub enum Stage {
     /// The output checked as f64 numbers, repaired where rounding folded or collapsed it
     /// (snap rounding), and the optional 2-manifold split.
     Certify,
+    /// Face and corner attributes (materials, UVs, normals) from the source faces.
+    Attributes,
 }
 
 /// A progress callback, called with `(stage, done, total)`; returning `false` cancels.
@@ -280,7 +282,7 @@ pub fn boolean(
         split_non_manifold: false,
         progress: None,
     };
-    let (mesh, certificate) = certify::certify(rounded, |soup, suspects| {
+    let (mut mesh, certificate) = certify::certify(rounded, |soup, suspects| {
         let mut inner = BooleanStats::default();
         exact_result(
             Operation::Union,
@@ -296,12 +298,13 @@ pub fn boolean(
     stats.max_snap_displacement = certificate.max_snap_displacement;
     stats.certify_rounds = certificate.rounds;
     stats.dissolved_slivers = certificate.dissolved_slivers;
-    let mut mesh = crate::mesh::inherit_attributes(mesh, operands);
     if options.split_non_manifold {
         mesh = crate::mesh::split_non_manifold(&mesh);
     }
     stats.output_triangles = mesh.face_count();
     clock.finish(Stage::Certify, &mut stats)?;
+    let mesh = crate::mesh::inherit_attributes(mesh, operands);
+    clock.finish(Stage::Attributes, &mut stats)?;
     Ok(Boolean { mesh, stats })
 }
 

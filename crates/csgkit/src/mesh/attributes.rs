@@ -53,6 +53,18 @@ impl Names {
 /// libraries are kept, each once. A mesh without provenance, or a provenance naming a face no
 /// source has, comes back unchanged.
 pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
+    let has_any = sources.iter().any(|s| {
+        let p = s.parts();
+        p.face_materials.is_some()
+            || p.face_groups.is_some()
+            || p.face_colors.is_some()
+            || p.corner_uvs.is_some()
+            || p.corner_normals.is_some()
+            || !p.material_libraries.is_empty()
+    });
+    if !has_any {
+        return mesh;
+    }
     let Some(provenance) = mesh.parts().face_provenance.as_deref() else {
         return mesh;
     };
