@@ -329,3 +329,78 @@ fn menger_sponge_intersect_rotated_cube() {
         "the cube cuts through holes of the sponge: {v:?}"
     );
 }
+
+/// spot (UVs) and capsule (UVs, normals, a material and its library) minus a box over the
+/// lower corner of their bounding box: every corner of a face cut from the model carries,
+/// where it is one of its source face's corners, exactly that corner's UV and normal, and
+/// elsewhere a UV within the range of the source face's UVs (a convex combination of them);
+/// the material and its library come through.
+#[test]
+fn textured_models_keep_their_corner_attributes() {
+    let Some(data) = shared_data() else { return };
+    for name in ["spot.obj", "capsule.obj"] {
+        let model = load(&data, name);
+        let b = bbox(&model);
+        let corner = cuboid(
+            [0, 1, 2].map(|k| b.min[k] - 1.0),
+            [0, 1, 2].map(|k| 0.5 * (b.min[k] + b.max[k])),
+        );
+        let result = boolean(Difference, &[&model, &corner], &BooleanOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"))
+            .mesh;
+        assert_eq!(
+            result.material_libraries(),
+            model.material_libraries(),
+            "{name}"
+        );
+        let source_uvs = model.corner_uvs().expect("the model has UVs");
+        let uvs = result.corner_uvs().expect("UVs come through");
+        let provenance = result.face_provenance().expect("provenance");
+        let (mut at_source_corners, mut inside) = (0, 0);
+        for f in 0..result.face_count() {
+            let from = provenance[f];
+            if from.operand.index() != 0 {
+                continue;
+            }
+            if let (Some(out), Some(source)) = (result.face_materials(), model.face_materials()) {
+                assert_eq!(
+                    result.materials()[out[f] as usize],
+                    model.materials()[source[from.face.index()] as usize],
+                    "{name}: face {f}"
+                );
+            }
+            let source_range = model.face_range(from.face);
+            let range = result.face_range(csgkit::FaceId::new(f));
+            for c in range {
+                let p = result.positions()[result.corners()[c] as usize];
+                let same = (source_range.clone())
+                    .find(|&s| model.positions()[model.corners()[s] as usize] == p);
+                if let Some(s) = same {
+                    at_source_corners += 1;
+                    assert_eq!(uvs[c], source_uvs[s], "{name}: corner {c}");
+                    if let (Some(n), Some(source_n)) =
+                        (result.corner_normals(), model.corner_normals())
+                    {
+                        assert_eq!(n[c], source_n[s], "{name}: corner {c}");
+                    }
+                } else {
+                    inside += 1;
+                    for k in 0..2 {
+                        let values = source_range.clone().map(|s| source_uvs[s][k]);
+                        let lo = values.clone().fold(f32::INFINITY, f32::min);
+                        let hi = values.fold(f32::NEG_INFINITY, f32::max);
+                        assert!(
+                            uvs[c][k] >= lo - 1e-6 && uvs[c][k] <= hi + 1e-6,
+                            "{name}: corner {c}: {} outside [{lo}, {hi}]",
+                            uvs[c][k]
+                        );
+                    }
+                }
+            }
+        }
+        assert!(
+            at_source_corners > 1000 && inside > 10,
+            "{name}: {at_source_corners}, {inside}"
+        );
+    }
+}

@@ -174,8 +174,15 @@ fn interpolated_corners(
             }
             if let Some(normals) = normals.as_mut() {
                 let n = source.corner_normals().map_or([0.0; 3], |s| mix(&|c| s[c]));
+                // At a source corner the normal is that corner's, as the file gave it; a
+                // blend of several is made unit length again.
+                let at_corner = weights.is_some_and(|(_, w)| w.contains(&1.0));
                 let length = dot(n, n).sqrt();
-                let scale = if length > 0.0 { sign / length } else { 0.0 };
+                let scale = match (at_corner, length > 0.0) {
+                    (true, _) => sign,
+                    (false, true) => sign / length,
+                    (false, false) => 0.0,
+                };
                 normals.push(n.map(|x| (x * scale) as f32));
             }
         }
