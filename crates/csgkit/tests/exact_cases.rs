@@ -444,3 +444,49 @@ fn corners_keep_uvs_interpolated_in_their_source_face_and_normals_follow_orienta
         }
     }
 }
+
+/// A vertex colour that is an affine function of position.
+fn affine_color(p: [f64; 3]) -> [f64; 4] {
+    [
+        128.0 + 40.0 * p[0],
+        128.0 + 30.0 * p[1] - 10.0 * p[2],
+        100.0 + 50.0 * p[2],
+        255.0,
+    ]
+}
+
+/// Every vertex of a union of two boxes coloured by one affine function of position carries
+/// that function's colour, to the rounding of 8-bit channels: new vertices interpolate it.
+#[test]
+fn vertex_colours_are_interpolated_in_their_source_faces() {
+    let coloured = |mesh: Mesh| {
+        let colors = (mesh.positions().iter())
+            .map(|&p| affine_color(p).map(|x| x.round() as u8))
+            .collect();
+        Mesh::from_parts(csgkit::MeshParts {
+            vertex_colors: Some(colors),
+            ..mesh.into_parts()
+        })
+        .expect("one colour per vertex")
+    };
+    let a = coloured(box_of_quads([-1.0; 3], [1.0; 3], ["a"; 3]));
+    let b = coloured(box_of_quads([0.25, 0.5, -0.5], [1.5, 1.75, 0.75], ["a"; 3]));
+    let result = boolean(Union, &[&a, &b], &BooleanOptions::default())
+        .expect("a union")
+        .mesh;
+    let colors = result.vertex_colors().expect("vertex colours");
+    let mut interpolated = 0;
+    for (v, &p) in result.positions().iter().enumerate() {
+        let expected = affine_color(p);
+        for k in 0..4 {
+            // Each corner's channel rounds by half a unit, and so does the blend.
+            assert!(
+                (f64::from(colors[v][k]) - expected[k]).abs() <= 1.0,
+                "vertex {v} at {p:?}: {:?}, expected {expected:?}",
+                colors[v]
+            );
+        }
+        interpolated += usize::from(a.positions().iter().chain(b.positions()).all(|&q| q != p));
+    }
+    assert!(interpolated > 0);
+}

@@ -45,7 +45,8 @@ impl Names {
 /// triangle of the source face's triangulation that contains it (so an attribute that is
 /// affine on a source triangle comes out exact up to its f32 storage); a face whose
 /// orientation is reversed from its source's gets its normals negated. Each corner gets its
-/// own values, so UV seams stay split.
+/// own values, so UV seams stay split. Vertex colours are interpolated the same way, each
+/// vertex in the first face that uses it.
 ///
 /// Name tables are merged by name across the sources, so "green" in one operand and "green"
 /// in another are one material; a source without materials (or groups) gives its faces
@@ -60,6 +61,7 @@ pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
             || p.face_colors.is_some()
             || p.corner_uvs.is_some()
             || p.corner_normals.is_some()
+            || p.vertex_colors.is_some()
             || !p.material_libraries.is_empty()
     });
     if !has_any {
@@ -94,7 +96,7 @@ pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
             })
             .collect()
     });
-    let (corner_uvs, corner_normals) = interpolated_corners(&mesh, &source_faces, sources);
+    let corner_and_vertex = interpolated(&mesh, &source_faces, sources);
     let mut material_libraries: Vec<String> = Vec::new();
     for library in sources.iter().flat_map(|s| &s.parts().material_libraries) {
         if !material_libraries.contains(library) {
@@ -107,32 +109,40 @@ pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
         face_groups,
         groups,
         face_colors,
-        corner_uvs,
-        corner_normals,
+        corner_uvs: corner_and_vertex.uvs,
+        corner_normals: corner_and_vertex.normals,
+        vertex_colors: corner_and_vertex.vertex_colors,
         material_libraries,
         ..mesh.into_parts()
     };
     Mesh::from_parts(parts).expect("one attribute per face, every id in its merged table")
 }
 
-/// Corner UVs and corner normals, each present or not.
-type CornerAttributes = (Option<Vec<[f32; 2]>>, Option<Vec<[f32; 3]>>);
+/// The corner and vertex attributes of a result, each present or not.
+struct Interpolated {
+    uvs: Option<Vec<[f32; 2]>>,
+    normals: Option<Vec<[f32; 3]>>,
+    vertex_colors: Option<Vec<Rgba>>,
+}
 
-/// Per corner of `mesh` (triangles), its UV and normal interpolated in its source face;
-/// `None` for an attribute no source has (corners of sources without it get zeros).
-fn interpolated_corners(
-    mesh: &Mesh,
-    source_faces: &[(usize, usize)],
-    sources: &[&Mesh],
-) -> CornerAttributes {
+/// Per corner of `mesh` (triangles) its UV and normal, and per vertex its colour,
+/// interpolated in its source face; `None` for an attribute no source has (elements from
+/// sources without it get zeros, or white). A vertex takes its colour from the first face
+/// that uses it.
+fn interpolated(mesh: &Mesh, source_faces: &[(usize, usize)], sources: &[&Mesh]) -> Interpolated {
     let has_uvs = sources.iter().any(|s| s.corner_uvs().is_some());
     let has_normals = sources.iter().any(|s| s.corner_normals().is_some());
-    if !has_uvs && !has_normals {
-        return (None, None);
+    let has_colors = sources.iter().any(|s| s.vertex_colors().is_some());
+    let mut out = Interpolated {
+        uvs: has_uvs.then(|| Vec::with_capacity(mesh.corner_count())),
+        normals: has_normals.then(|| Vec::with_capacity(mesh.corner_count())),
+        vertex_colors: has_colors.then(|| vec![WHITE; mesh.vertex_count()]),
+    };
+    if !has_uvs && !has_normals && !has_colors {
+        return out;
     }
     let pieces: Vec<Vec<Vec<[usize; 3]>>> = sources.iter().map(|s| source_triangles(s)).collect();
-    let mut uvs = has_uvs.then(|| Vec::with_capacity(mesh.corner_count()));
-    let mut normals = has_normals.then(|| Vec::with_capacity(mesh.corner_count()));
+    let mut coloured = vec![false; mesh.vertex_count()];
     for (f, &(k, source_face)) in source_faces.iter().enumerate() {
         let corners = mesh.face(FaceId::new(f));
         let source = sources[k];
@@ -154,26 +164,14 @@ fn interpolated_corners(
             let weights = (triangles.iter())
                 .filter_map(|&t| barycentric(p, t.map(at), source_normal).map(|w| (t, w)))
                 .max_by(|a, b| min3(a.1).total_cmp(&min3(b.1)));
-            let mix = |value: &dyn Fn(usize) -> [f32; 3]| -> [f64; 3] {
-                let Some((t, w)) = weights else {
-                    return [0.0; 3];
-                };
-                let mut out = [0.0f64; 3];
-                for (&c, wi) in t.iter().zip(w) {
-                    for (o, x) in out.iter_mut().zip(value(c)) {
-                        *o += wi * f64::from(x);
-                    }
-                }
-                out
-            };
-            if let Some(uvs) = uvs.as_mut() {
-                let uv = source
-                    .corner_uvs()
-                    .map_or([0.0; 3], |s| mix(&|c| [s[c][0], s[c][1], 0.0]));
-                uvs.push([uv[0] as f32, uv[1] as f32]);
+            if let Some(uvs) = out.uvs.as_mut() {
+                let uv = (source.corner_uvs())
+                    .map_or([0.0; 2], |s| blend(weights, |c| s[c].map(f64::from)));
+                uvs.push(uv.map(|x| x as f32));
             }
-            if let Some(normals) = normals.as_mut() {
-                let n = source.corner_normals().map_or([0.0; 3], |s| mix(&|c| s[c]));
+            if let Some(normals) = out.normals.as_mut() {
+                let n = (source.corner_normals())
+                    .map_or([0.0; 3], |s| blend(weights, |c| s[c].map(f64::from)));
                 // At a source corner the normal is that corner's, as the file gave it; a
                 // blend of several is made unit length again.
                 let at_corner = weights.is_some_and(|(_, w)| w.contains(&1.0));
@@ -185,15 +183,45 @@ fn interpolated_corners(
                 };
                 normals.push(n.map(|x| (x * scale) as f32));
             }
+            if let (Some(colors), Some(source_colors)) =
+                (out.vertex_colors.as_mut(), source.vertex_colors())
+            {
+                if !coloured[v as usize] {
+                    coloured[v as usize] = true;
+                    let vertex_of = |c: usize| source.corners()[c] as usize;
+                    let rgba = blend(weights, |c| source_colors[vertex_of(c)].map(f64::from));
+                    colors[v as usize] = rgba.map(|x| x.round().clamp(0.0, 255.0) as u8);
+                }
+            }
         }
     }
-    (uvs, normals)
+    out
+}
+
+/// The value at barycentric `weights` in a source triangle (corner indices) of the values
+/// `value` gives its corners; zeros without a triangle.
+fn blend<const N: usize>(
+    weights: Option<([usize; 3], [f64; 3])>,
+    value: impl Fn(usize) -> [f64; N],
+) -> [f64; N] {
+    let mut out = [0.0; N];
+    if let Some((corners, w)) = weights {
+        for (c, wi) in corners.into_iter().zip(w) {
+            for (o, x) in out.iter_mut().zip(value(c)) {
+                *o += wi * x;
+            }
+        }
+    }
+    out
 }
 
 /// Each face's triangles as corner indices of `source` (none when it has no corner
 /// attributes, so nothing is interpolated from it).
 fn source_triangles(source: &Mesh) -> Vec<Vec<[usize; 3]>> {
-    if source.corner_uvs().is_none() && source.corner_normals().is_none() {
+    if source.corner_uvs().is_none()
+        && source.corner_normals().is_none()
+        && source.vertex_colors().is_none()
+    {
         return Vec::new();
     }
     let mut of_face = vec![Vec::new(); source.face_count()];
