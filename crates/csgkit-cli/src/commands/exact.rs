@@ -21,7 +21,7 @@ use clap::Args;
 use csgkit::exact::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, Stage, WindingRule, boolean,
 };
-use csgkit::mesh::MeshReport;
+use csgkit::mesh::{FaceMode, MeshReport};
 use csgkit::{Format, Mesh, WriteError, WriteOptions, write_mesh};
 use serde_json::json;
 
@@ -58,6 +58,47 @@ pub struct ExactArgs {
     /// where its winding number is non-zero, or only where it is positive.
     #[arg(long, value_enum, default_value_t = Winding::Nonzero)]
     pub winding: Winding,
+    /// Which faces to write.
+    #[command(flatten)]
+    pub faces: FaceArgs,
+}
+
+/// How the result's faces are written (`--polygons`, `--quads`, `--triangles`,
+/// `--merge-coplanar`), shared by every command that writes an exact result.
+#[derive(Args, Debug, Clone, Default)]
+pub struct FaceArgs {
+    /// Write each face of the result as a polygon: the part of its source face it keeps,
+    /// cut into hole-free pieces where it has holes; a face nothing cut comes back as it was
+    /// read. The default for OBJ, PLY and OFF.
+    #[arg(long, group = "face_mode")]
+    pub polygons: bool,
+    /// Write triangles and strictly convex quads only.
+    #[arg(long, group = "face_mode")]
+    pub quads: bool,
+    /// Write triangles: per face, a triangulation without extra vertices. The default for
+    /// STL, which stores only triangles.
+    #[arg(long, group = "face_mode")]
+    pub triangles: bool,
+    /// Also merge neighbouring faces that lie exactly in one plane and have the same
+    /// material, group and colour (and no UVs or normals), though they come from different
+    /// source faces: chains of booleans through files then stay small.
+    #[arg(long)]
+    pub merge_coplanar: bool,
+}
+
+impl FaceArgs {
+    /// The faces to write in `format`: as asked, else polygons where the format has them.
+    pub fn face_mode(&self, format: Format) -> FaceMode {
+        if self.triangles {
+            FaceMode::Triangles
+        } else if self.quads {
+            FaceMode::Quads
+        } else if self.polygons || format != Format::Stl {
+            FaceMode::Polygons
+        } else {
+            FaceMode::Triangles
+        }
+    }
 }
 
 /// The values of `--winding`.
@@ -91,7 +132,7 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
         .map(|path| load(path).map(|loaded| loaded.mesh))
         .collect::<anyhow::Result<Vec<Mesh>>>()?;
     let read_seconds = clock.elapsed().as_secs_f64();
-    let result = compute(op, args, &meshes)
+    let result = compute(op, args, format, &meshes)
         .with_context(|| format!("cannot compute the {}", op_name(op)))?;
     warn_if_manifold_lost(args.manifold, &args.output);
     let clock = Instant::now();
@@ -113,7 +154,12 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
 }
 
 /// Runs the boolean with a bar per stage; an error about an operand names its file.
-fn compute(op: Operation, args: &ExactArgs, meshes: &[Mesh]) -> anyhow::Result<Boolean> {
+fn compute(
+    op: Operation,
+    args: &ExactArgs,
+    format: Format,
+    meshes: &[Mesh],
+) -> anyhow::Result<Boolean> {
     let operands: Vec<&Mesh> = meshes.iter().collect();
     let faces = meshes.iter().map(Mesh::face_count).sum();
     let bar = StageBar::new(faces, PROGRESS_MIN_FACES);
@@ -125,6 +171,8 @@ fn compute(op: Operation, args: &ExactArgs, meshes: &[Mesh]) -> anyhow::Result<B
         check_self_intersections: !args.no_self_check,
         winding: args.winding.rule(),
         split_non_manifold: args.manifold,
+        faces: args.faces.face_mode(format),
+        merge_coplanar: args.faces.merge_coplanar,
         progress: Some(&show),
     };
     let result = boolean(op, &operands, &options);
@@ -210,6 +258,8 @@ fn stats_json(
         "self_intersecting_pairs": s.self_intersecting_pairs,
         "winding_classification": s.winding_classification,
         "output_triangles": s.output_triangles,
+        "output_faces": s.output_faces,
+        "removed_vertices": s.removed_vertices,
         "rounded_vertices": s.rounded_vertices,
         "snapped_vertices": s.snapped_vertices,
         "dissolved_slivers": s.dissolved_slivers,

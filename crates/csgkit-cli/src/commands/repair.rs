@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use clap::Args;
 use csgkit::exact::Operation;
 
-use super::exact::{ExactArgs, Winding, run as run_exact};
+use super::exact::{ExactArgs, FaceArgs, Winding, run as run_exact};
 
 /// Arguments of `csgkit repair`.
 #[derive(Args, Debug, Clone)]
@@ -32,6 +32,9 @@ pub struct RepairArgs {
     /// Print one JSON object on stdout instead of the summary on stderr.
     #[arg(long)]
     pub stats: bool,
+    /// Which faces to write.
+    #[command(flatten)]
+    pub faces: FaceArgs,
 }
 
 /// Runs `csgkit repair`.
@@ -43,18 +46,19 @@ pub fn run(args: &RepairArgs) -> anyhow::Result<()> {
         stats: args.stats,
         no_self_check: false,
         winding: args.winding,
+        faces: args.faces.clone(),
     };
     let stats = run_exact(Operation::Union, &exact)?;
     if !args.stats {
         eprintln!(
-            "csgkit: resolved {} crossing triangle pairs{}; wrote {} triangles to {}",
+            "csgkit: resolved {} crossing triangle pairs{}; wrote {} faces to {}",
             stats.self_intersecting_pairs,
             if stats.winding_classification {
                 " by winding numbers"
             } else {
                 ""
             },
-            stats.output_triangles,
+            stats.output_faces,
             args.output.display()
         );
     }

@@ -14,33 +14,30 @@
 use rayon::prelude::*;
 
 use crate::kernel::round_point;
-use crate::mesh::{Mesh, MeshParts, OperandId, Provenance};
+use crate::mesh::{Mesh, MeshParts};
 
 use super::ingest::Input;
-use super::select::Kept;
+use super::reconstruct::Reconstructed;
 use super::subdivide::Arrangement;
 
-/// The output mesh in f64, and which of its vertices rounding moved.
+/// The output mesh in f64, and which of its vertices need checking.
 pub(crate) struct Rounded {
     pub mesh: Mesh,
-    /// Per vertex: an intersection point rounded to f64 (the only vertices that may differ
-    /// from the exact result).
+    /// Per vertex: an intersection point rounded to f64, or a corner of a triangle the
+    /// reconstruct stage made (the only faces that may differ from what the exact stages
+    /// decided).
     pub moved: Vec<bool>,
+    /// How many vertices are intersection points rounded to f64.
+    pub rounded: usize,
 }
 
-/// The mesh of the kept sub-triangles, with its rounded vertices marked.
-pub(crate) fn assemble(input: &Input, arr: &Arrangement, kept: &Kept) -> Rounded {
-    let (mesh, moved) = build_mesh(input, arr, kept);
-    Rounded { mesh, moved }
-}
-
-/// The mesh of the kept sub-triangles, and which of its vertices are rounded points.
-fn build_mesh(input: &Input, arr: &Arrangement, kept: &Kept) -> (Mesh, Vec<bool>) {
+/// The mesh of the reconstructed triangles, with its rounded and changed vertices marked.
+pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: &Reconstructed) -> Rounded {
     // Used vertices keep their relative order (input vertices, then intersection points), so
     // the numbering is deterministic and every step but the marking runs in parallel.
     let mut new_id = vec![u32::MAX; arr.vertex_count(input)];
-    for &(s, _) in kept {
-        for v in arr.triangles[s as usize] {
+    for t in &faces.triangles {
+        for &v in t {
             new_id[v as usize] = 0;
         }
     }
@@ -57,30 +54,26 @@ fn build_mesh(input: &Input, arr: &Arrangement, kept: &Kept) -> (Mesh, Vec<bool>
         .map(|&v| round_point(&arr.point(input, v)).map(|x| x * unscale))
         .collect();
     // An intersection point the split stage simplified to an explicit one is exact.
-    let rounded: Vec<bool> = (used.par_iter())
+    let mut moved: Vec<bool> = (used.par_iter())
         .map(|&v| v >= explicit_count && !arr.point(input, v).is_explicit())
         .collect();
-    let corners: Vec<u32> = (kept.par_iter())
-        .flat_map_iter(|&(s, reverse)| {
-            let [a, b, c] = arr.triangles[s as usize].map(|v| new_id[v as usize]);
-            if reverse { [a, c, b] } else { [a, b, c] }
-        })
-        .collect();
-    let provenance: Vec<Provenance> = (kept.par_iter())
-        .map(|&(s, _)| {
-            let t = arr.source[s as usize] as usize;
-            Provenance {
-                operand: OperandId::new(input.operand[t] as usize),
-                face: input.face[t],
-            }
-        })
+    let rounded = moved.iter().filter(|&&m| m).count();
+    for &v in &faces.changed {
+        moved[new_id[v as usize] as usize] = true;
+    }
+    let corners: Vec<u32> = (faces.triangles.par_iter())
+        .flat_map_iter(|t| t.map(|v| new_id[v as usize]))
         .collect();
     let mesh = Mesh::from_parts(MeshParts {
         positions,
         corners,
-        face_provenance: Some(provenance),
+        face_provenance: Some(faces.provenance.clone()),
         ..MeshParts::default()
     })
-    .expect("kept sub-triangles index their own vertices");
-    (mesh, rounded)
+    .expect("reconstructed triangles index their own vertices");
+    Rounded {
+        mesh,
+        moved,
+        rounded,
+    }
 }

@@ -4,11 +4,11 @@
 use std::time::Instant;
 
 use crate::kernel::Point3;
-use crate::mesh::{Mesh, PolygonError};
+use crate::mesh::{FaceMode, Mesh, PolygonError};
 
 use super::assemble::Rounded;
 use super::winding::{self, WindingRule};
-use super::{assemble, broad, certify, classify, ingest, select, subdivide};
+use super::{assemble, broad, certify, classify, ingest, reconstruct, select, subdivide};
 
 /// A boolean operation on solids.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -56,11 +56,17 @@ pub enum Stage {
     Split,
     /// Patches and their inside / outside / on labels.
     Classify,
-    /// Keeping the sub-triangles the operation asks for, and the output mesh.
+    /// The output face of every kept sub-triangle, and the removal of the intersection
+    /// points no face needs (exact).
+    Reconstruct,
+    /// Rounding to f64 and the output mesh.
     Assemble,
     /// The output checked as f64 numbers, repaired where rounding folded or collapsed it
-    /// (snap rounding), and the optional 2-manifold split.
+    /// (snap rounding).
     Certify,
+    /// The certified triangles merged into polygons or quads ([`BooleanOptions::faces`]),
+    /// and the optional 2-manifold split.
+    Faces,
     /// Face and corner attributes (materials, UVs, normals) from the source faces.
     Attributes,
 }
@@ -83,6 +89,15 @@ pub struct BooleanOptions<'a> {
     /// Split the non-manifold edges and vertices of the result by duplicating vertices, so
     /// the output is a 2-manifold (`--manifold`).
     pub split_non_manifold: bool,
+    /// The faces of the result: triangles (the default), the polygons of the source faces
+    /// (hole-free pieces), or triangles and convex quads ([`merge_faces`]).
+    ///
+    /// [`merge_faces`]: crate::mesh::merge_faces
+    pub faces: FaceMode,
+    /// Merge neighbouring faces that lie exactly in one plane and have the same material,
+    /// group and colour (and no UVs or normals), even when they come from different source
+    /// faces, so a chain of booleans read back from files does not accumulate triangles.
+    pub merge_coplanar: bool,
     /// Called as stages progress.
     pub progress: Option<ProgressFn<'a>>,
 }
@@ -93,6 +108,8 @@ impl Default for BooleanOptions<'_> {
             check_self_intersections: true,
             winding: WindingRule::NonZero,
             split_non_manifold: false,
+            faces: FaceMode::Triangles,
+            merge_coplanar: false,
             progress: None,
         }
     }
@@ -118,8 +135,13 @@ pub struct BooleanStats {
     /// Whether patches were classified by winding numbers (operands that are not simple
     /// solids) rather than by local tests.
     pub winding_classification: bool,
-    /// Triangles of the result.
+    /// Triangles of the result, before any merging into polygons.
     pub output_triangles: usize,
+    /// Faces of the result, as [`BooleanOptions::faces`] asks.
+    pub output_faces: usize,
+    /// Intersection points the reconstruct stage removed: on a straight stretch of the
+    /// boundary between two faces, or inside one.
+    pub removed_vertices: usize,
     /// Output vertices that are intersection points rounded to f64.
     pub rounded_vertices: usize,
     /// Output vertices moved to a coarser grid because rounding made faces cross or
@@ -279,10 +301,9 @@ pub fn boolean(
     let refine_options = BooleanOptions {
         check_self_intersections: true,
         winding: WindingRule::Positive,
-        split_non_manifold: false,
-        progress: None,
+        ..BooleanOptions::default()
     };
-    let (mut mesh, certificate) = certify::certify(rounded, |soup, suspects| {
+    let (mesh, certificate) = certify::certify(rounded, |soup, suspects| {
         let mut inner = BooleanStats::default();
         exact_result(
             Operation::Union,
@@ -298,19 +319,23 @@ pub fn boolean(
     stats.max_snap_displacement = certificate.max_snap_displacement;
     stats.certify_rounds = certificate.rounds;
     stats.dissolved_slivers = certificate.dissolved_slivers;
+    stats.output_triangles = mesh.face_count();
+    clock.finish(Stage::Certify, &mut stats)?;
+    let mut mesh = crate::mesh::merge_faces(mesh, options.faces, operands);
     if options.split_non_manifold {
         mesh = crate::mesh::split_non_manifold(&mesh);
     }
-    stats.output_triangles = mesh.face_count();
-    clock.finish(Stage::Certify, &mut stats)?;
+    stats.output_faces = mesh.face_count();
+    clock.finish(Stage::Faces, &mut stats)?;
     let mesh = crate::mesh::inherit_attributes(mesh, operands);
     clock.finish(Stage::Attributes, &mut stats)?;
     Ok(Boolean { mesh, stats })
 }
 
 /// The stages from ingest to assemble: the exact result, rounded to f64 once. With
-/// `suspects`, the self-intersection check looks only at triangles with a vertex at one of
-/// those positions (the rest is known to be free of crossings).
+/// `suspects` (a re-refinement in certification), the self-intersection check looks only at
+/// triangles with a vertex at one of those positions (the rest is known to be free of
+/// crossings), and no vertex is removed (certification snaps every new vertex).
 fn exact_result(
     op: Operation,
     operands: &[&Mesh],
@@ -372,7 +397,19 @@ fn exact_result(
         clock.finish(Stage::Classify, stats)?;
         select::select(op, &input, &arrangement, &labels)
     };
-    let rounded = assemble::assemble(&input, &arrangement, &kept);
+    let faces = reconstruct::reconstruct(
+        &input,
+        &arrangement,
+        &kept,
+        operands,
+        reconstruct::Options {
+            merge_coplanar: options.merge_coplanar,
+            remove_vertices: suspects.is_none(),
+        },
+    );
+    stats.removed_vertices = faces.removed_vertices;
+    clock.finish(Stage::Reconstruct, stats)?;
+    let rounded = assemble::assemble(&input, &arrangement, &faces);
     clock.finish(Stage::Assemble, stats)?;
     Ok(rounded)
 }

@@ -25,14 +25,19 @@
 //!    the exact winding number of every operand in front of every patch (one ray per patch);
 //!    an operand's interior is where its winding number is non-zero, or positive
 //!    ([`WindingRule`]).
-//! 7. **assemble** — round implicit points once, build the output mesh with provenance.
-//! 8. **certify** — check the rounded mesh exactly where rounding moved it, and repair it
+//! 7. **reconstruct** — the face every kept sub-triangle belongs to (its source face, joined
+//!    through earlier booleans' provenance and, as an option, with coplanar look-alike
+//!    neighbours), and the removal of intersection points no face needs; exact.
+//! 8. **assemble** — round implicit points once, build the output mesh with provenance.
+//! 9. **certify** — check the rounded mesh exactly where rounding moved it, and repair it
 //!    (re-rounding within a few ulps, merging coincident vertices, iterative snap rounding
 //!    with exact re-refinement), so every result is a valid operand of the next boolean.
+//! 10. **faces** — the certified triangles merged back into the polygons of their faces, or
+//!     convex quads, or left as triangles ([`merge_faces`](crate::mesh::merge_faces)); then
+//!     every face inherits the attributes of its source face
+//!     ([`inherit_attributes`](crate::mesh::inherit_attributes)).
 //!
 //! [`boolean`] runs them in order; the exact predicates are in [`kernel`](crate::kernel).
-//! Reconstruction (merging sub-triangles back into polygons) is not built yet: the output is
-//! triangles.
 
 mod assemble;
 mod boolean;
@@ -41,6 +46,7 @@ mod certify;
 mod classify;
 mod ingest;
 pub mod intersect;
+mod reconstruct;
 mod select;
 pub mod self_intersect;
 mod split;

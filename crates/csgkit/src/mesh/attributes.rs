@@ -37,7 +37,7 @@ impl Names {
     }
 }
 
-/// `mesh` (triangles) with the attributes of the source face each of its faces came from, by
+/// `mesh` (any faces) with the attributes of the source face each of its faces came from, by
 /// its provenance (operand `k` is `sources[k]`, its face the source face's index).
 ///
 /// Face attributes (material, group, colour) are copied. Corner UVs and normals are
@@ -125,7 +125,7 @@ struct Interpolated {
     vertex_colors: Option<Vec<Rgba>>,
 }
 
-/// Per corner of `mesh` (triangles) its UV and normal, and per vertex its colour,
+/// Per corner of `mesh` its UV and normal, and per vertex its colour,
 /// interpolated in its source face; `None` for an attribute no source has (elements from
 /// sources without it get zeros, or white). A vertex takes its colour from the first face
 /// that uses it.
@@ -151,8 +151,14 @@ fn interpolated(mesh: &Mesh, source_faces: &[(usize, usize)], sources: &[&Mesh])
         let source_normal = (triangles.iter())
             .map(|t| normal(t.map(at)))
             .fold([0.0; 3], |n, m| [n[0] + m[0], n[1] + m[1], n[2] + m[2]]);
-        let own =
-            normal([corners[0], corners[1], corners[2]].map(|v| mesh.positions()[v as usize]));
+        // The polygon's own normal: the sum over a fan, right for non-convex faces too.
+        let own = (1..corners.len() - 1)
+            .map(|i| {
+                normal(
+                    [corners[0], corners[i], corners[i + 1]].map(|v| mesh.positions()[v as usize]),
+                )
+            })
+            .fold([0.0; 3], |n, m| [n[0] + m[0], n[1] + m[1], n[2] + m[2]]);
         let sign = if dot(own, source_normal) < 0.0 {
             -1.0
         } else {

@@ -47,6 +47,7 @@ mod degenerate;
 mod ids;
 mod manifold_split;
 mod measures;
+mod merge_faces;
 mod report;
 #[cfg(test)]
 mod test_meshes;
@@ -61,6 +62,7 @@ pub use degenerate::{DegenerateCounts, FaceShape, are_collinear, count_degenerat
 pub use ids::{FaceId, OperandId, VertexId};
 pub use manifold_split::split_non_manifold;
 pub use measures::{BoundingBox, Measures, bounding_box, measure};
+pub use merge_faces::{FaceMode, merge_faces};
 pub use report::{MeshReport, analyze};
 pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
 pub use triangulate::{

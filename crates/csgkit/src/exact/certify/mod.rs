@@ -178,12 +178,13 @@ pub(crate) fn certify(
     mut re_refine: impl FnMut(&Mesh, &[Point3]) -> Result<Rounded, BooleanError>,
 ) -> Result<(Mesh, Certificate), BooleanError> {
     let mut certificate = Certificate {
-        rounded_vertices: rounded.moved.iter().filter(|&&m| m).count(),
+        rounded_vertices: rounded.rounded,
         ..Certificate::default()
     };
     let Rounded {
         mut mesh,
         mut moved,
+        ..
     } = rounded;
     let mut level = 0;
     let mut rounds_at_level = 0;

@@ -1,0 +1,556 @@
+//! The **reconstruct** stage (`design/exact.md`, stage 9), on exact points: which output face
+//! every kept sub-triangle belongs to, and the removal of the vertices no face needs.
+//!
+//! # Faces
+//! A kept sub-triangle belongs to the face of its input face: the sub-triangles of one
+//! original polygon, however the split cut them, make one output face again. The polygons
+//! themselves are traced after rounding and certification, by
+//! [`merge_faces`](crate::mesh::merge_faces), from the provenance this stage writes. Two
+//! things join faces further:
+//! - **composition**: faces of an operand that share a provenance (the result of an earlier
+//!   boolean, whose faces name the original face they lie on) are one face, so a chain of
+//!   operations merges back what earlier steps split;
+//! - **coplanar merging** (`BooleanOptions::merge_coplanar`, off by default): two faces that
+//!   share an edge, lie exactly in one plane (exact `orient3d` of their input triangles) and
+//!   have the same material, group and colour, and no corner attributes (UVs and normals are
+//!   defined per source face), are one face.
+//!
+//! Every sub-triangle of a joined face records the provenance of its lowest member.
+//!
+//! # Vertices
+//! An intersection point is needed where three or more faces meet, or where the boundary
+//! between two faces turns. One that lies on a straight stretch of the boundary between
+//! exactly two faces (where a curve crossed an input edge or a polygon diagonal that no
+//! longer bounds anything), or inside one face, is not: it is removed by collapsing it onto a
+//! neighbour along that boundary (any neighbour, inside a face), which replaces its fan in
+//! each face by a fan from that neighbour. Every decision is exact:
+//! - collinearity of the point and its two boundary neighbours is three projected
+//!   orientations of the exact points, and the point must lie between them;
+//! - a fan is replaced only where its input triangles are coplanar (exact `orient3d`);
+//! - every new triangle must turn like its input triangle in that triangle's projection
+//!   (exact `orient2d`); then the new fan tiles the old one exactly (its winding number is one
+//!   on the old fan, and no triangle is negative).
+//!
+//! Of the two neighbours, the collapse keeps the fan whose worst triangle is fattest (an f64
+//! shape measure: a choice, not a decision), so needles are avoided where there is a choice.
+//! Input vertices are never removed, so a face that nothing cut keeps its corners.
+//!
+//! # Complexity
+//! Only sub-triangles of split input triangles hold intersection points, so removal looks at
+//! those alone, in time linear in their number. Coplanar merging looks at every edge of the
+//! kept sub-triangles once.
+
+use rustc_hash::FxHashMap;
+
+use crate::kernel::{Axis, Point, Sign, compare_along, orient2d_projected, orient3d};
+use crate::mesh::union_find::UnionFind;
+use crate::mesh::{FaceId, Mesh, OperandId, Provenance};
+
+use super::ingest::Input;
+use super::select::Kept;
+use super::subdivide::Arrangement;
+
+/// The kept sub-triangles after reconstruction.
+pub(crate) struct Reconstructed {
+    /// Triangles over arrangement vertex ids, oriented as in the result.
+    pub triangles: Vec<[u32; 3]>,
+    /// Per triangle: the provenance of the face it belongs to.
+    pub provenance: Vec<Provenance>,
+    /// Vertices of the triangles this stage made, sorted: the exact stages never saw those
+    /// triangles, so the rounded result is checked around them as around rounded points.
+    pub changed: Vec<u32>,
+    /// Intersection points removed.
+    pub removed_vertices: usize,
+}
+
+/// What the stage does beyond grouping by source face.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Options {
+    /// Join coplanar neighbouring faces that look alike.
+    pub merge_coplanar: bool,
+    /// Remove the intersection points no face needs.
+    pub remove_vertices: bool,
+}
+
+/// Reconstructs the faces of `kept` (see the module docs). `operands` are the meshes the
+/// input was made from, for their provenance and face attributes.
+pub(crate) fn reconstruct(
+    input: &Input,
+    arr: &Arrangement,
+    kept: &Kept,
+    operands: &[&Mesh],
+    options: Options,
+) -> Reconstructed {
+    let triangles: Vec<[u32; 3]> = (kept.iter())
+        .map(|&(s, reverse)| {
+            let [a, b, c] = arr.triangles[s as usize];
+            if reverse { [a, c, b] } else { [a, b, c] }
+        })
+        .collect();
+    let source: Vec<u32> = kept.iter().map(|&(s, _)| arr.source[s as usize]).collect();
+    let mut faces = FaceGroups::new(input, operands);
+    if options.merge_coplanar {
+        faces.join_coplanar(input, operands, &triangles, &source);
+    }
+    let mut fans = Fans::new(input, arr, kept, &triangles, &source, &mut faces);
+    let removed_vertices = if options.remove_vertices {
+        fans.remove_unneeded(input, arr)
+    } else {
+        0
+    };
+
+    let mut replaced = vec![false; triangles.len()];
+    for (l, origin) in fans.origin.iter().enumerate() {
+        if let Some(k) = *origin {
+            replaced[k as usize] = !fans.alive[l];
+        }
+    }
+    let mut out_triangles = Vec::with_capacity(triangles.len());
+    let mut out_source = Vec::with_capacity(triangles.len());
+    for (k, (&t, &s)) in triangles.iter().zip(&source).enumerate() {
+        if !replaced[k] {
+            out_triangles.push(t);
+            out_source.push(s);
+        }
+    }
+    let mut changed = Vec::new();
+    for l in 0..fans.triangles.len() {
+        if fans.alive[l] && fans.origin[l].is_none() {
+            out_triangles.push(fans.triangles[l]);
+            out_source.push(fans.source[l]);
+            changed.extend(fans.triangles[l]);
+        }
+    }
+    changed.sort_unstable();
+    changed.dedup();
+    let provenance = (out_source.iter())
+        .map(|&t| faces.provenance(input, t))
+        .collect();
+    Reconstructed {
+        triangles: out_triangles,
+        provenance,
+        changed,
+        removed_vertices,
+    }
+}
+
+/// Which output face every input triangle's sub-triangles belong to.
+struct FaceGroups {
+    /// The first dense face id of each operand (the faces of all operands numbered in order),
+    /// and the total at the end.
+    face_base: Vec<u32>,
+    /// Per dense face id: its group. Roots are the lowest member, whose provenance the group
+    /// records.
+    groups: UnionFind,
+}
+
+impl FaceGroups {
+    /// One group per input face, joined where an operand's faces share a provenance.
+    fn new(input: &Input, operands: &[&Mesh]) -> Self {
+        debug_assert_eq!(input.operand_count(), operands.len());
+        let mut face_base = Vec::with_capacity(operands.len() + 1);
+        let mut total = 0u32;
+        for mesh in operands {
+            face_base.push(total);
+            total += mesh.face_count() as u32;
+        }
+        face_base.push(total);
+        let mut groups = UnionFind::new(total as usize);
+        for (k, mesh) in operands.iter().enumerate() {
+            let Some(provenance) = mesh.face_provenance() else {
+                continue;
+            };
+            let mut first: FxHashMap<Provenance, u32> = FxHashMap::default();
+            for (f, p) in provenance.iter().enumerate() {
+                let id = face_base[k] + f as u32;
+                let root = *first.entry(*p).or_insert(id);
+                groups.union(root, id);
+            }
+        }
+        Self { face_base, groups }
+    }
+
+    /// The dense id of input triangle `t`'s face.
+    fn face(&self, input: &Input, t: u32) -> u32 {
+        self.face_base[input.operand[t as usize] as usize] + input.face[t as usize].get()
+    }
+
+    /// The group of input triangle `t`.
+    fn group(&mut self, input: &Input, t: u32) -> u32 {
+        let face = self.face(input, t);
+        self.groups.find(face)
+    }
+
+    /// The provenance of input triangle `t`'s group: that of its lowest member face.
+    fn provenance(&mut self, input: &Input, t: u32) -> Provenance {
+        let root = self.group(input, t);
+        let k = self.face_base.partition_point(|&b| b <= root) - 1;
+        Provenance {
+            operand: OperandId::new(k),
+            face: FaceId::new((root - self.face_base[k]) as usize),
+        }
+    }
+
+    /// Joins the groups of faces that share an edge, lie in one plane and look alike (see
+    /// the module docs).
+    fn join_coplanar(
+        &mut self,
+        input: &Input,
+        operands: &[&Mesh],
+        triangles: &[[u32; 3]],
+        source: &[u32],
+    ) {
+        // Each undirected edge: its first use, and how many uses it has.
+        let mut edges: FxHashMap<(u32, u32), (u32, u32)> = FxHashMap::default();
+        for (k, t) in triangles.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                let entry = edges.entry((a.min(b), a.max(b))).or_insert((k as u32, 0));
+                entry.1 += 1;
+            }
+        }
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        for (k, t) in triangles.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                let (first, uses) = edges[&(a.min(b), a.max(b))];
+                if uses == 2 && first != k as u32 && a > b {
+                    pairs.push((first, k as u32));
+                }
+            }
+        }
+        for (k, l) in pairs {
+            let (s, t) = (source[k as usize], source[l as usize]);
+            let (g, h) = (self.group(input, s), self.group(input, t));
+            if g != h && look_alike(input, operands, s, t) && coplanar(input, s, t) {
+                self.groups.union(g, h);
+            }
+        }
+    }
+}
+
+/// Whether the faces of input triangles `s` and `t` have the same material, group and colour
+/// names or values, and neither operand has corner attributes.
+fn look_alike(input: &Input, operands: &[&Mesh], s: u32, t: u32) -> bool {
+    let side = |t: u32| {
+        let mesh = operands[input.operand[t as usize] as usize];
+        (mesh, input.face[t as usize].index())
+    };
+    let ((m, f), (n, g)) = (side(s), side(t));
+    let corner_free = |mesh: &Mesh| mesh.corner_uvs().is_none() && mesh.corner_normals().is_none();
+    fn material(mesh: &Mesh, f: usize) -> Option<&str> {
+        (mesh.face_materials()).map(|ids| mesh.materials()[ids[f] as usize].as_str())
+    }
+    fn group(mesh: &Mesh, f: usize) -> Option<&str> {
+        (mesh.face_groups()).map(|ids| mesh.groups()[ids[f] as usize].as_str())
+    }
+    let colour = |mesh: &Mesh, f: usize| mesh.face_colors().map(|c| c[f]);
+    corner_free(m)
+        && corner_free(n)
+        && material(m, f) == material(n, g)
+        && group(m, f) == group(n, g)
+        && colour(m, f) == colour(n, g)
+}
+
+/// Whether input triangles `s` and `t` lie in one plane, exactly.
+fn coplanar(input: &Input, s: u32, t: u32) -> bool {
+    let [a, b, c] = input.triangles[s as usize].positions();
+    (input.triangles[t as usize].positions())
+        .into_iter()
+        .all(|d| orient3d(a, b, c, d) == Sign::Zero)
+}
+
+/// The kept sub-triangles around intersection points, with the fans of those points, as the
+/// removal edits them.
+struct Fans {
+    /// Triangles over arrangement vertex ids, oriented as in the result.
+    triangles: Vec<[u32; 3]>,
+    /// Per triangle: its input triangle.
+    source: Vec<u32>,
+    /// Per triangle: whether it faces against its input triangle.
+    reversed: Vec<bool>,
+    /// Per triangle: its face group.
+    group: Vec<u32>,
+    /// Per triangle: whether it is still in the result.
+    alive: Vec<bool>,
+    /// Per triangle: its index among the kept sub-triangles, or `None` for a triangle the
+    /// removal made.
+    origin: Vec<Option<u32>>,
+    /// Per intersection point (vertex id minus the input vertex count): the triangles that
+    /// use it, dead ones included.
+    incident: Vec<Vec<u32>>,
+}
+
+/// One edge at a vertex: the neighbour it leads to, and the triangles that use it leaving
+/// the vertex and arriving at it.
+#[derive(Clone, Copy, Debug)]
+struct Spoke {
+    to: u32,
+    outgoing: u32,
+    incoming: u32,
+    /// A triangle using the edge leaving the vertex, and one using it arriving.
+    out_triangle: u32,
+    in_triangle: u32,
+}
+
+impl Fans {
+    /// The kept sub-triangles of split input triangles (only those hold intersection points).
+    fn new(
+        input: &Input,
+        arr: &Arrangement,
+        kept: &Kept,
+        triangles: &[[u32; 3]],
+        source: &[u32],
+        faces: &mut FaceGroups,
+    ) -> Self {
+        let explicit = input.positions.len() as u32;
+        let mut fans = Fans {
+            triangles: Vec::new(),
+            source: Vec::new(),
+            reversed: Vec::new(),
+            group: Vec::new(),
+            alive: Vec::new(),
+            origin: Vec::new(),
+            incident: vec![Vec::new(); arr.points.len()],
+        };
+        for (k, &t) in triangles.iter().enumerate() {
+            if !t.iter().any(|&v| v >= explicit) {
+                continue;
+            }
+            let group = faces.group(input, source[k]);
+            fans.push(t, source[k], kept[k].1, group, Some(k as u32), explicit);
+        }
+        fans
+    }
+
+    fn push(
+        &mut self,
+        t: [u32; 3],
+        source: u32,
+        reversed: bool,
+        group: u32,
+        origin: Option<u32>,
+        explicit: u32,
+    ) {
+        let l = self.triangles.len() as u32;
+        self.triangles.push(t);
+        self.source.push(source);
+        self.reversed.push(reversed);
+        self.group.push(group);
+        self.alive.push(true);
+        self.origin.push(origin);
+        for v in t {
+            if let Some(p) = v.checked_sub(explicit) {
+                self.incident[p as usize].push(l);
+            }
+        }
+    }
+
+    /// Removes every intersection point no face needs, in vertex order; returns how many.
+    fn remove_unneeded(&mut self, input: &Input, arr: &Arrangement) -> usize {
+        let explicit = input.positions.len() as u32;
+        let mut removed = 0;
+        for p in 0..arr.points.len() as u32 {
+            if self.remove(input, arr, explicit + p) {
+                removed += 1;
+            }
+        }
+        removed
+    }
+
+    /// Removes vertex `v` if no face needs it (see the module docs); whether it did.
+    fn remove(&mut self, input: &Input, arr: &Arrangement, v: u32) -> bool {
+        let explicit = input.positions.len() as u32;
+        let fan: Vec<u32> = (self.incident[(v - explicit) as usize].iter())
+            .copied()
+            .filter(|&l| self.alive[l as usize])
+            .collect();
+        if fan.is_empty() {
+            return false;
+        }
+        let spokes = self.spokes(v, &fan);
+        // One disk around `v`: every edge has one use each way, and turning around `v`
+        // from one triangle meets them all.
+        if spokes.len() != fan.len()
+            || spokes.iter().any(|s| s.outgoing != 1 || s.incoming != 1)
+            || !self.is_one_disk(v, &fan, &spokes)
+        {
+            return false;
+        }
+        let bounding: Vec<u32> = (spokes.iter())
+            .filter(|s| self.group[s.out_triangle as usize] != self.group[s.in_triangle as usize])
+            .map(|s| s.to)
+            .collect();
+        let point = |v: u32| arr.point(input, v);
+        let targets: Vec<u32> = match bounding[..] {
+            [] => spokes.iter().map(|s| s.to).collect(),
+            [u, w] if is_between(&point(u), &point(v), &point(w)) => vec![u, w],
+            _ => return false,
+        };
+        if !self.fans_are_planar(input, &fan) {
+            return false;
+        }
+        let mut best: Option<(f64, Vec<(u32, [u32; 3])>)> = None;
+        for z in targets {
+            let Some((shape, new)) = self.collapse(input, arr, v, z, &fan) else {
+                continue;
+            };
+            if best.as_ref().is_none_or(|(s, _)| shape > *s) {
+                best = Some((shape, new));
+            }
+        }
+        let Some((_, new)) = best else {
+            return false;
+        };
+        for &l in &fan {
+            self.alive[l as usize] = false;
+        }
+        for (l, t) in new {
+            let l = l as usize;
+            let (source, reversed, group) = (self.source[l], self.reversed[l], self.group[l]);
+            self.push(t, source, reversed, group, None, explicit);
+        }
+        true
+    }
+
+    /// The edges at `v` of the triangles of `fan`, by neighbour.
+    fn spokes(&self, v: u32, fan: &[u32]) -> Vec<Spoke> {
+        let mut spokes: Vec<Spoke> = Vec::with_capacity(fan.len() + 1);
+        let mut spoke = |to: u32, l: u32, leaving: bool| {
+            let at = match spokes.iter().position(|s| s.to == to) {
+                Some(at) => at,
+                None => {
+                    spokes.push(Spoke {
+                        to,
+                        outgoing: 0,
+                        incoming: 0,
+                        out_triangle: l,
+                        in_triangle: l,
+                    });
+                    spokes.len() - 1
+                }
+            };
+            let s = &mut spokes[at];
+            if leaving {
+                s.outgoing += 1;
+                s.out_triangle = l;
+            } else {
+                s.incoming += 1;
+                s.in_triangle = l;
+            }
+        };
+        for &l in fan {
+            let t = self.triangles[l as usize];
+            let i = t.iter().position(|&x| x == v).expect("the fan uses v");
+            spoke(t[(i + 1) % 3], l, true);
+            spoke(t[(i + 2) % 3], l, false);
+        }
+        spokes
+    }
+
+    /// Whether turning around `v` through the triangles of `fan` (each edge leads to the
+    /// triangle using it the other way) visits every triangle before it returns.
+    fn is_one_disk(&self, v: u32, fan: &[u32], spokes: &[Spoke]) -> bool {
+        let mut at = fan[0];
+        for step in 1..=fan.len() {
+            let t = self.triangles[at as usize];
+            let i = t.iter().position(|&x| x == v).expect("the fan uses v");
+            let next = t[(i + 1) % 3];
+            let spoke = spokes
+                .iter()
+                .find(|s| s.to == next)
+                .expect("every edge is a spoke");
+            at = spoke.in_triangle;
+            if at == fan[0] {
+                return step == fan.len();
+            }
+        }
+        false
+    }
+
+    /// Whether the input triangles of each face's part of `fan` lie in one plane.
+    fn fans_are_planar(&self, input: &Input, fan: &[u32]) -> bool {
+        let mut first_of_group: Vec<(u32, u32)> = Vec::with_capacity(2);
+        for &l in fan {
+            let (group, source) = (self.group[l as usize], self.source[l as usize]);
+            match first_of_group.iter().find(|(g, _)| *g == group) {
+                Some(&(_, first)) => {
+                    if first != source && !coplanar(input, first, source) {
+                        return false;
+                    }
+                }
+                None => first_of_group.push((group, source)),
+            }
+        }
+        true
+    }
+
+    /// The triangles that replace `fan` when `v` collapses onto `z`, each with the triangle
+    /// it replaces, and the shape of the worst; `None` if one of them does not turn like its
+    /// input triangle.
+    fn collapse(
+        &self,
+        input: &Input,
+        arr: &Arrangement,
+        v: u32,
+        z: u32,
+        fan: &[u32],
+    ) -> Option<(f64, Vec<(u32, [u32; 3])>)> {
+        let mut new = Vec::with_capacity(fan.len());
+        let mut worst = f64::INFINITY;
+        for &l in fan {
+            let t = self.triangles[l as usize];
+            if t.contains(&z) {
+                continue;
+            }
+            let moved = t.map(|x| if x == v { z } else { x });
+            let [a, b, c] = moved.map(|x| arr.point(input, x));
+            let source = &input.triangles[self.source[l as usize] as usize];
+            let want = if self.reversed[l as usize] {
+                source.turn().flip()
+            } else {
+                source.turn()
+            };
+            if orient2d_projected(&a, &b, &c, source.drop_axis()) != want {
+                return None;
+            }
+            worst = worst.min(shape(&[a, b, c]));
+            new.push((l, moved));
+        }
+        Some((worst, new))
+    }
+}
+
+/// Whether `v` lies on the segment from `u` to `w`, strictly between them (exact).
+fn is_between(u: &Point, v: &Point, w: &Point) -> bool {
+    let collinear = [Axis::X, Axis::Y, Axis::Z]
+        .into_iter()
+        .all(|axis| orient2d_projected(u, v, w, axis) == Sign::Zero);
+    if !collinear {
+        return false;
+    }
+    let (pu, pw) = (u.approx(), w.approx());
+    let axis = Axis::of_largest([pw[0] - pu[0], pw[1] - pu[1], pw[2] - pu[2]]);
+    let before = compare_along(u, v, axis);
+    before != std::cmp::Ordering::Equal && before == compare_along(v, w, axis)
+}
+
+/// Twice the area over the longest side squared: 0 for a needle, √3/2 for an equilateral
+/// triangle (f64, to choose between valid collapses).
+fn shape(corners: &[Point; 3]) -> f64 {
+    let [a, b, c] = corners.map(|p| p.approx());
+    let d = |p: [f64; 3], q: [f64; 3]| [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+    let (u, v, w) = (d(a, b), d(a, c), d(b, c));
+    let cross = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let norm2 = |x: [f64; 3]| x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    let longest = norm2(u).max(norm2(v)).max(norm2(w));
+    if longest == 0.0 {
+        0.0
+    } else {
+        norm2(cross).sqrt() / longest
+    }
+}
