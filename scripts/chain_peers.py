@@ -21,7 +21,8 @@ printed, then the volumes side by side.
 
 Engines:  manifold3d, trueform (in-process Python; `--peers manifold3d,trueform`, the
 default) and csgkit (`--csgkit PATH`: each step runs
-`PATH difference prev.obj cyl.obj -o next.obj --stats`; op time = "op_seconds" of --stats).
+`PATH difference prev.obj cyl.obj -o next.obj --stats ARGS`, ARGS from `--csgkit-args`,
+`--triangles` by default; op time = "op_seconds" of --stats).
 
 Run it with the peers harness venv, which has numpy, manifold3d, trueform and libigl
 (from a csgkit checkout whose sibling is ../shared/peers, after its setup.sh; with a private
@@ -192,11 +193,12 @@ class TrueformEngine:
 class CsgkitEngine:
     name = "csgkit"
 
-    def __init__(self, exe):
+    def __init__(self, exe, extra):
         self.exe = exe
+        self.extra = extra
 
     def difference(self, a_path, b_path, out_path):
-        cmd = [self.exe, "difference", a_path, b_path, "-o", out_path, "--stats"]
+        cmd = [self.exe, "difference", a_path, b_path, "-o", out_path, "--stats", *self.extra]
         t0 = time.perf_counter()
         p = subprocess.run(cmd, capture_output=True, text=True)
         wall = time.perf_counter() - t0
@@ -308,6 +310,9 @@ def main(argv=None):
     ap.add_argument("--peers", default="manifold3d,trueform",
                     help="comma-separated Python engines: manifold3d, trueform ('' for none)")
     ap.add_argument("--csgkit", metavar="PATH", help="also run this csgkit binary")
+    ap.add_argument("--csgkit-args", default="--triangles",
+                    help="more arguments of each csgkit step (default: --triangles, since this "
+                         "script fan-triangulates polygons on reading; add --merge-coplanar)")
     ap.add_argument("--steps", type=int, default=40)
     ap.add_argument("--seed", type=int, default=9, help="step i uses default_rng(SEED + i)")
     ap.add_argument("--out", default="chain_out", help="directory for the OBJ files")
@@ -322,7 +327,7 @@ def main(argv=None):
             ap.error(f"unknown engine {name!r} (manifold3d, trueform; csgkit via --csgkit)")
         engines.append(cls())
     if args.csgkit:
-        engines.append(CsgkitEngine(os.path.abspath(args.csgkit)))
+        engines.append(CsgkitEngine(os.path.abspath(args.csgkit), args.csgkit_args.split()))
     if not engines:
         ap.error("no engine selected")
 

@@ -4,8 +4,9 @@
 use csgkit::Mesh;
 use csgkit::csg::primitives::cuboid;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::mesh::FaceMode;
 
-use crate::util::assert_no_self_intersection;
+use crate::util::{assert_no_self_intersection, box_of_quads};
 
 use Operation::{Difference, Intersection, Union};
 
@@ -280,43 +281,6 @@ fn menger_sponge_level_2() {
     check_boxes(Difference, &boxes);
 }
 
-/// The box `[min, max]` as six quads, material `materials[k]` on the two faces normal to axis
-/// `k`.
-fn box_of_quads(min: [f64; 3], max: [f64; 3], materials: [&str; 3]) -> Mesh {
-    let positions: Vec<[f64; 3]> = (0..8)
-        .map(|i| [0, 1, 2].map(|k| if i >> k & 1 == 1 { max[k] } else { min[k] }))
-        .collect();
-    // Outward quads: axis, side, corners (vertex index bit k = coordinate k at max).
-    let quads = [
-        (0, [0, 4, 6, 2]),
-        (0, [1, 3, 7, 5]),
-        (1, [0, 1, 5, 4]),
-        (1, [2, 6, 7, 3]),
-        (2, [0, 2, 3, 1]),
-        (2, [4, 5, 7, 6]),
-    ];
-    let mut names: Vec<String> = Vec::new();
-    let face_materials: Vec<u32> = (quads.iter())
-        .map(|&(axis, _)| {
-            let name = materials[axis].to_owned();
-            let id = names.iter().position(|n| *n == name).unwrap_or_else(|| {
-                names.push(name);
-                names.len() - 1
-            });
-            id as u32
-        })
-        .collect();
-    Mesh::from_parts(csgkit::MeshParts {
-        positions,
-        corners: quads.iter().flat_map(|(_, q)| *q).collect(),
-        face_starts: Some((0..=6).map(|f| 4 * f).collect()),
-        face_materials: Some(face_materials),
-        materials: names,
-        ..Default::default()
-    })
-    .expect("a valid box")
-}
-
 /// Every face of a result keeps the material of the face it was cut from, and one name in
 /// two operands is one material: the cube's faces are red (z), green (y) and blue (x); the
 /// box pushed into its top face is green all over, so the pocket it leaves is green.
@@ -380,7 +344,7 @@ fn with_affine_uvs_and_normals(mesh: Mesh) -> Mesh {
         let length = n.iter().map(|x| x * x).sum::<f64>().sqrt();
         for point in p {
             let uv = affine_uv(point, q);
-            uvs.push([uv[0] as f32, uv[1] as f32]);
+            uvs.push(uv);
             normals.push(n.map(|x| (x / length) as f32));
         }
     }
@@ -393,56 +357,66 @@ fn with_affine_uvs_and_normals(mesh: Mesh) -> Mesh {
 }
 
 /// Every corner of a result carries the UV its source face gives its position (an affine
-/// function, different on each face, so reproduced up to f32 storage) and the normal of the
-/// result's surface there: the pocket's faces, cut from the subtracted box, point the other
-/// way from their source's normals.
+/// function, different on each face, reproduced to 1e-9) and the normal of the result's
+/// surface there: the pocket's faces, cut from the subtracted box, point the other way from
+/// their source's normals. The same holds whichever faces the result is written with.
 #[test]
 fn corners_keep_uvs_interpolated_in_their_source_face_and_normals_follow_orientation() {
     let cube = with_affine_uvs_and_normals(box_of_quads([-1.0; 3], [1.0; 3], ["a"; 3]));
     let pushed =
         with_affine_uvs_and_normals(box_of_quads([0.0, 0.0, 0.5], [2.0, 2.0, 2.0], ["b"; 3]));
-    let result = boolean(Difference, &[&cube, &pushed], &BooleanOptions::default())
-        .expect("a difference")
-        .mesh;
-    let uvs = result.corner_uvs().expect("UVs");
-    let normals = result.corner_normals().expect("normals");
-    let provenance = result.face_provenance().expect("provenance");
-    for (f, range) in
-        (0..result.face_count()).map(|f| (f, result.face_range(csgkit::FaceId::new(f))))
-    {
-        let corners = &result.corners()[range.clone()];
-        let p: Vec<[f64; 3]> = corners
-            .iter()
-            .map(|&v| result.positions()[v as usize])
-            .collect();
-        let (u, w) = (
-            [0, 1, 2].map(|k| p[1][k] - p[0][k]),
-            [0, 1, 2].map(|k| p[2][k] - p[0][k]),
-        );
-        let n = [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ];
-        let q = provenance[f].face.index();
-        for (c, point) in range.zip(&p) {
-            let expected = affine_uv(*point, q);
-            for k in 0..2 {
-                let got = f64::from(uvs[c][k]);
+    for faces in [FaceMode::Triangles, FaceMode::Polygons, FaceMode::Quads] {
+        let options = BooleanOptions {
+            faces,
+            ..BooleanOptions::default()
+        };
+        let result = boolean(Difference, &[&cube, &pushed], &options)
+            .expect("a difference")
+            .mesh;
+        let uvs = result.corner_uvs().expect("UVs");
+        let normals = result.corner_normals().expect("normals");
+        let provenance = result.face_provenance().expect("provenance");
+        for (f, range) in
+            (0..result.face_count()).map(|f| (f, result.face_range(csgkit::FaceId::new(f))))
+        {
+            let p: Vec<[f64; 3]> = (result.corners()[range.clone()].iter())
+                .map(|&v| result.positions()[v as usize])
+                .collect();
+            let n = polygon_normal(&p);
+            let q = provenance[f].face.index();
+            for (c, point) in range.zip(&p) {
+                let expected = affine_uv(*point, q);
+                for k in 0..2 {
+                    assert!(
+                        (uvs[c][k] - expected[k]).abs() <= 1e-9 * expected[k].abs().max(1.0),
+                        "{faces:?}: face {f} corner {c}: UV {:?}, expected {expected:?}",
+                        uvs[c]
+                    );
+                }
+                let along: f64 = (0..3).map(|k| f64::from(normals[c][k]) * n[k]).sum();
                 assert!(
-                    (got - expected[k]).abs() <= 1e-6 * expected[k].abs().max(1.0),
-                    "face {f} corner {c}: UV {:?}, expected {expected:?}",
-                    uvs[c]
+                    along > 0.0,
+                    "{faces:?}: face {f}: normal {:?} against {n:?}",
+                    normals[c]
                 );
             }
-            let along: f64 = (0..3).map(|k| f64::from(normals[c][k]) * n[k]).sum();
-            assert!(
-                along > 0.0,
-                "face {f}: normal {:?} against {n:?}",
-                normals[c]
-            );
         }
     }
+}
+
+/// The normal of a polygon (the sum over a fan of its corners), any length.
+fn polygon_normal(p: &[[f64; 3]]) -> [f64; 3] {
+    let mut n = [0.0; 3];
+    for i in 1..p.len() - 1 {
+        let (u, w) = (
+            [0, 1, 2].map(|k| p[i][k] - p[0][k]),
+            [0, 1, 2].map(|k| p[i + 1][k] - p[0][k]),
+        );
+        n[0] += u[1] * w[2] - u[2] * w[1];
+        n[1] += u[2] * w[0] - u[0] * w[2];
+        n[2] += u[0] * w[1] - u[1] * w[0];
+    }
+    n
 }
 
 /// A vertex colour that is an affine function of position.

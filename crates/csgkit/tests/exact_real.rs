@@ -387,8 +387,8 @@ fn textured_models_keep_their_corner_attributes() {
                     inside += 1;
                     for k in 0..2 {
                         let values = source_range.clone().map(|s| source_uvs[s][k]);
-                        let lo = values.clone().fold(f32::INFINITY, f32::min);
-                        let hi = values.fold(f32::NEG_INFINITY, f32::max);
+                        let lo = values.clone().fold(f64::INFINITY, f64::min);
+                        let hi = values.fold(f64::NEG_INFINITY, f64::max);
                         assert!(
                             uvs[c][k] >= lo - 1e-6 && uvs[c][k] <= hi + 1e-6,
                             "{name}: corner {c}: {} outside [{lo}, {hi}]",

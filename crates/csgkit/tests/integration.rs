@@ -6,6 +6,9 @@ mod util;
 mod discrete_cases;
 // The exact engine: the degenerate suite of design/exact.md with exact volumes.
 mod exact_cases;
+// Reconstruction: faces merged back by source in polygons, quads and triangles modes, fewest
+// vertices, untouched faces as read, chained provenance.
+mod exact_faces;
 // The exact engine against the orthogonal engine: unions of random integer boxes.
 mod exact_ortho;
 // The exact engine's properties (proptest) on random convex solids and box sets; error paths.

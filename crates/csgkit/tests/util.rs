@@ -156,3 +156,40 @@ pub fn assert_close(x: f64, y: f64, tolerance: f64, scale: f64, what: &str) {
         tolerance * scale
     );
 }
+
+/// The box `[min, max]` as six quads, material `materials[k]` on the two faces normal to axis
+/// `k`.
+pub fn box_of_quads(min: [f64; 3], max: [f64; 3], materials: [&str; 3]) -> csgkit::Mesh {
+    let positions: Vec<[f64; 3]> = (0..8)
+        .map(|i| [0, 1, 2].map(|k| if i >> k & 1 == 1 { max[k] } else { min[k] }))
+        .collect();
+    // Outward quads: axis, side, corners (vertex index bit k = coordinate k at max).
+    let quads = [
+        (0, [0, 4, 6, 2]),
+        (0, [1, 3, 7, 5]),
+        (1, [0, 1, 5, 4]),
+        (1, [2, 6, 7, 3]),
+        (2, [0, 2, 3, 1]),
+        (2, [4, 5, 7, 6]),
+    ];
+    let mut names: Vec<String> = Vec::new();
+    let face_materials: Vec<u32> = (quads.iter())
+        .map(|&(axis, _)| {
+            let name = materials[axis].to_owned();
+            let id = names.iter().position(|n| *n == name).unwrap_or_else(|| {
+                names.push(name);
+                names.len() - 1
+            });
+            id as u32
+        })
+        .collect();
+    csgkit::Mesh::from_parts(csgkit::MeshParts {
+        positions,
+        corners: quads.iter().flat_map(|(_, q)| *q).collect(),
+        face_starts: Some((0..=6).map(|f| 4 * f).collect()),
+        face_materials: Some(face_materials),
+        materials: names,
+        ..Default::default()
+    })
+    .expect("a valid box")
+}

@@ -40,6 +40,7 @@
 //! those alone, in time linear in their number. Coplanar merging looks at every edge of the
 //! kept sub-triangles once.
 
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use crate::kernel::{Axis, Point, Sign, compare_along, orient2d_projected, orient3d};
@@ -81,13 +82,15 @@ pub(crate) fn reconstruct(
     operands: &[&Mesh],
     options: Options,
 ) -> Reconstructed {
-    let triangles: Vec<[u32; 3]> = (kept.iter())
+    let triangles: Vec<[u32; 3]> = (kept.par_iter())
         .map(|&(s, reverse)| {
             let [a, b, c] = arr.triangles[s as usize];
             if reverse { [a, c, b] } else { [a, b, c] }
         })
         .collect();
-    let source: Vec<u32> = kept.iter().map(|&(s, _)| arr.source[s as usize]).collect();
+    let source: Vec<u32> = (kept.par_iter())
+        .map(|&(s, _)| arr.source[s as usize])
+        .collect();
     let mut faces = FaceGroups::new(input, operands);
     if options.merge_coplanar {
         faces.join_coplanar(input, operands, &triangles, &source);
@@ -123,8 +126,9 @@ pub(crate) fn reconstruct(
     }
     changed.sort_unstable();
     changed.dedup();
-    let provenance = (out_source.iter())
-        .map(|&t| faces.provenance(input, t))
+    let roots = faces.roots();
+    let provenance = (out_source.par_iter())
+        .map(|&t| faces.provenance(input, roots.as_deref(), t))
         .collect();
     Reconstructed {
         triangles: out_triangles,
@@ -139,9 +143,9 @@ struct FaceGroups {
     /// The first dense face id of each operand (the faces of all operands numbered in order),
     /// and the total at the end.
     face_base: Vec<u32>,
-    /// Per dense face id: its group. Roots are the lowest member, whose provenance the group
-    /// records.
-    groups: UnionFind,
+    /// Per dense face id: its group, where faces were joined (roots are the lowest member,
+    /// whose provenance the group records); `None` while every face is its own group.
+    groups: Option<UnionFind>,
 }
 
 impl FaceGroups {
@@ -155,19 +159,29 @@ impl FaceGroups {
             total += mesh.face_count() as u32;
         }
         face_base.push(total);
-        let mut groups = UnionFind::new(total as usize);
+        let mut faces = Self {
+            face_base,
+            groups: None,
+        };
         for (k, mesh) in operands.iter().enumerate() {
             let Some(provenance) = mesh.face_provenance() else {
                 continue;
             };
             let mut first: FxHashMap<Provenance, u32> = FxHashMap::default();
             for (f, p) in provenance.iter().enumerate() {
-                let id = face_base[k] + f as u32;
+                let id = faces.face_base[k] + f as u32;
                 let root = *first.entry(*p).or_insert(id);
-                groups.union(root, id);
+                if root != id {
+                    faces.join(root, id);
+                }
             }
         }
-        Self { face_base, groups }
+        faces
+    }
+
+    fn join(&mut self, a: u32, b: u32) {
+        let total = *self.face_base.last().expect("a total") as usize;
+        (self.groups.get_or_insert_with(|| UnionFind::new(total))).union(a, b);
     }
 
     /// The dense id of input triangle `t`'s face.
@@ -178,12 +192,24 @@ impl FaceGroups {
     /// The group of input triangle `t`.
     fn group(&mut self, input: &Input, t: u32) -> u32 {
         let face = self.face(input, t);
-        self.groups.find(face)
+        match self.groups.as_mut() {
+            Some(groups) => groups.find(face),
+            None => face,
+        }
     }
 
-    /// The provenance of input triangle `t`'s group: that of its lowest member face.
-    fn provenance(&mut self, input: &Input, t: u32) -> Provenance {
-        let root = self.group(input, t);
+    /// Every dense face's group, if faces were joined.
+    fn roots(&mut self) -> Option<Vec<u32>> {
+        let total = *self.face_base.last().expect("a total");
+        let groups = self.groups.as_mut()?;
+        Some((0..total).map(|f| groups.find(f)).collect())
+    }
+
+    /// The provenance of input triangle `t`'s group (that of its lowest member face), given
+    /// the [`roots`](Self::roots).
+    fn provenance(&self, input: &Input, roots: Option<&[u32]>, t: u32) -> Provenance {
+        let face = self.face(input, t);
+        let root = roots.map_or(face, |roots| roots[face as usize]);
         let k = self.face_base.partition_point(|&b| b <= root) - 1;
         Provenance {
             operand: OperandId::new(k),
@@ -223,7 +249,7 @@ impl FaceGroups {
             let (s, t) = (source[k as usize], source[l as usize]);
             let (g, h) = (self.group(input, s), self.group(input, t));
             if g != h && look_alike(input, operands, s, t) && coplanar(input, s, t) {
-                self.groups.union(g, h);
+                self.join(g, h);
             }
         }
     }
@@ -281,6 +307,10 @@ struct Fans {
     incident: Vec<Vec<u32>>,
 }
 
+/// A collapse of a vertex: the shape of its worst new triangle, and each new triangle with the
+/// one it replaces.
+type Collapse = (f64, Vec<(u32, [u32; 3])>);
+
 /// One edge at a vertex: the neighbour it leads to, and the triangles that use it leaving
 /// the vertex and arriving at it.
 #[derive(Clone, Copy, Debug)]
@@ -313,10 +343,12 @@ impl Fans {
             origin: Vec::new(),
             incident: vec![Vec::new(); arr.points.len()],
         };
-        for (k, &t) in triangles.iter().enumerate() {
-            if !t.iter().any(|&v| v >= explicit) {
-                continue;
-            }
+        let around_points: Vec<usize> = (0..triangles.len())
+            .into_par_iter()
+            .filter(|&k| triangles[k].iter().any(|&v| v >= explicit))
+            .collect();
+        for k in around_points {
+            let t = triangles[k];
             let group = faces.group(input, source[k]);
             fans.push(t, source[k], kept[k].1, group, Some(k as u32), explicit);
         }
@@ -390,7 +422,7 @@ impl Fans {
         if !self.fans_are_planar(input, &fan) {
             return false;
         }
-        let mut best: Option<(f64, Vec<(u32, [u32; 3])>)> = None;
+        let mut best: Option<Collapse> = None;
         for z in targets {
             let Some((shape, new)) = self.collapse(input, arr, v, z, &fan) else {
                 continue;
@@ -495,7 +527,7 @@ impl Fans {
         v: u32,
         z: u32,
         fan: &[u32],
-    ) -> Option<(f64, Vec<(u32, [u32; 3])>)> {
+    ) -> Option<Collapse> {
         let mut new = Vec::with_capacity(fan.len());
         let mut worst = f64::INFINITY;
         for &l in fan {

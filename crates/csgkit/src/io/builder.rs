@@ -91,7 +91,7 @@ impl MeshBuilder {
     pub(crate) fn push_corner(
         &mut self,
         vertex: u32,
-        uv: Option<[f32; 2]>,
+        uv: Option<[f64; 2]>,
         normal: Option<[f32; 3]>,
     ) {
         let len = self.parts.corners.len();

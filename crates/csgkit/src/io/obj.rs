@@ -73,7 +73,7 @@ fn join_continued(first: &[u8], lines: &mut Lines<'_>, out: &mut Vec<u8>) {
 
 struct Reader {
     builder: MeshBuilder,
-    uvs: Vec<[f32; 2]>,
+    uvs: Vec<[f64; 2]>,
     normals: Vec<[f32; 3]>,
     material: Option<String>,
     group: Option<String>,
@@ -92,8 +92,10 @@ impl Reader {
         match keyword {
             b"v" => self.vertex(tokens, at),
             b"vt" => {
-                let [u] = floats::<1>(&mut tokens, at, "vt needs a coordinate")?;
-                let v = tokens.next().map_or(Ok(0.0), |t| parse_f32(t, at))?;
+                let token = (tokens.next())
+                    .ok_or_else(|| malformed(Format::Obj, at, "vt needs a coordinate"))?;
+                let u = parse_f64(token, at)?;
+                let v = tokens.next().map_or(Ok(0.0), |t| parse_f64(t, at))?;
                 self.uvs.push([u, v]);
                 Ok(())
             }
@@ -284,7 +286,12 @@ fn line(out: &mut Vec<u8>, pieces: &[&[u8]]) {
     out.push(b'\n');
 }
 
-fn write_floats(out: &mut Vec<u8>, keyword: &[u8], values: &[f32], f: &mut ryu::Buffer) {
+fn write_floats<T: ryu::Float>(
+    out: &mut Vec<u8>,
+    keyword: &[u8],
+    values: &[T],
+    f: &mut ryu::Buffer,
+) {
     out.extend_from_slice(keyword);
     for &value in values {
         out.push(b' ');

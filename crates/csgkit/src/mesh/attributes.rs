@@ -43,7 +43,7 @@ impl Names {
 /// Face attributes (material, group, colour) are copied. Corner UVs and normals are
 /// interpolated at each corner's position in the source face, barycentrically in the
 /// triangle of the source face's triangulation that contains it (so an attribute that is
-/// affine on a source triangle comes out exact up to its f32 storage); a face whose
+/// affine on a source triangle comes out exact up to f64 rounding, and normals up to their f32 storage); a face whose
 /// orientation is reversed from its source's gets its normals negated. Each corner gets its
 /// own values, so UV seams stay split. Vertex colours are interpolated the same way, each
 /// vertex in the first face that uses it.
@@ -120,7 +120,7 @@ pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
 
 /// The corner and vertex attributes of a result, each present or not.
 struct Interpolated {
-    uvs: Option<Vec<[f32; 2]>>,
+    uvs: Option<Vec<[f64; 2]>>,
     normals: Option<Vec<[f32; 3]>>,
     vertex_colors: Option<Vec<Rgba>>,
 }
@@ -171,9 +171,8 @@ fn interpolated(mesh: &Mesh, source_faces: &[(usize, usize)], sources: &[&Mesh])
                 .filter_map(|&t| barycentric(p, t.map(at), source_normal).map(|w| (t, w)))
                 .max_by(|a, b| min3(a.1).total_cmp(&min3(b.1)));
             if let Some(uvs) = out.uvs.as_mut() {
-                let uv = (source.corner_uvs())
-                    .map_or([0.0; 2], |s| blend(weights, |c| s[c].map(f64::from)));
-                uvs.push(uv.map(|x| x as f32));
+                let uv = (source.corner_uvs()).map_or([0.0; 2], |s| blend(weights, |c| s[c]));
+                uvs.push(uv);
             }
             if let Some(normals) = out.normals.as_mut() {
                 let n = (source.corner_normals())

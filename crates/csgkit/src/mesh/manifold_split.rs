@@ -829,7 +829,7 @@ mod tests {
             face_groups: Some(vec![0; faces]),
             groups: vec!["cubes".into()],
             face_colors: Some((0..faces).map(|f| [f as u8, 0, 0, 255]).collect()),
-            corner_uvs: Some((0..corners).map(|c| [c as f32, 0.5]).collect()),
+            corner_uvs: Some((0..corners).map(|c| [c as f64, 0.5]).collect()),
             corner_normals: Some(vec![[0.0, 0.0, 1.0]; corners]),
             vertex_colors: Some((0..vertices).map(|v| [0, v as u8, 0, 255]).collect()),
             material_libraries: vec!["cubes.mtl".into()],

@@ -25,13 +25,16 @@
 //! triangulation of each face without new vertices.
 //!
 //! # Algorithm
-//! Triangles sorted by provenance; a provenance with one triangle is that triangle. For the
-//! others: the sides to dissolve (their uses counted over the whole mesh), the connected
+//! A provenance with one triangle is that triangle (counted per source face, so nearly all
+//! of a large result passes through in one linear scan). The others are sorted by
+//! provenance, and for each: the sides to dissolve (their uses counted over the whole mesh), the connected
 //! regions across them, and per region:
-//! - polygons: pieces grown from the lowest triangle across dissolved sides, a triangle
-//!   joining when its third corner is not yet in the piece (so the piece stays a disk with a
-//!   simple boundary), then adjacent pieces joined while they share only the side between
-//!   them; each piece's boundary traced by turning around its corners through its triangles;
+//! - polygons: pieces grown breadth-first across dissolved sides, a triangle joining when its
+//!   third corner is not yet in the piece (so the piece stays a disk with a simple
+//!   boundary), then adjacent pieces joined while they share only the side between them; a
+//!   region that needs more than two pieces (a face with holes needs at least two) is grown
+//!   again from up to [`PIECE_STARTS`] first triangles and the fewest pieces kept; each
+//!   piece's boundary is traced by turning around its corners through its triangles;
 //! - quads: triangles paired greedily across dissolved sides where the pair is strictly
 //!   convex, those with fewest choices first.
 //!
@@ -43,6 +46,9 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use crate::kernel::{Axis, Sign, orient2d};
 
 use super::{Mesh, MeshParts, Provenance};
+
+/// How many first triangles piece growing tries in a region that needs more than two pieces.
+const PIECE_STARTS: usize = 16;
 
 /// The faces an engine writes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -70,34 +76,6 @@ pub fn merge_faces(mesh: Mesh, mode: FaceMode, sources: &[&Mesh]) -> Mesh {
         return mesh;
     }
     assert!(mesh.is_triangle_mesh(), "merge_faces takes triangles");
-    let n = mesh.face_count();
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    order.par_sort_unstable_by_key(|&f| (provenance[f as usize], f));
-    let runs: Vec<&[u32]> =
-        (order.chunk_by(|&f, &g| provenance[f as usize] == provenance[g as usize])).collect();
-    let corners = mesh.corners();
-    let triangle = |f: u32| -> [u32; 3] {
-        let f = 3 * f as usize;
-        [corners[f], corners[f + 1], corners[f + 2]]
-    };
-    let dissolved = dissolved_sides(&mesh, &runs);
-    let faces: Vec<Vec<(u32, Vec<u32>)>> = (runs.par_iter())
-        .map(|run| {
-            if run.len() == 1 {
-                return vec![(run[0], triangle(run[0]).to_vec())];
-            }
-            let region = Region::new(run, &triangle, &dissolved);
-            let source = provenance[run[0] as usize];
-            region.faces(mode, mesh.positions(), source_corners(sources, source))
-        })
-        .collect();
-    let mut faces: Vec<(u32, Vec<u32>)> = faces.into_iter().flatten().collect();
-    faces.sort_unstable_by_key(|(first, _)| *first);
-    let mut parts = MeshParts {
-        positions: mesh.positions().to_vec(),
-        face_provenance: Some(faces.iter().map(|(f, _)| provenance[*f as usize]).collect()),
-        ..MeshParts::default()
-    };
     debug_assert_eq!(
         MeshParts {
             positions: Vec::new(),
@@ -108,14 +86,67 @@ pub fn merge_faces(mesh: Mesh, mode: FaceMode, sources: &[&Mesh]) -> Mesh {
         MeshParts::default(),
         "merge_faces takes a mesh whose only attribute is provenance"
     );
-    let polygons = faces.iter().any(|(_, p)| p.len() != 3);
-    let mut starts = Vec::with_capacity(faces.len() + 1);
-    for (_, polygon) in &faces {
-        starts.push(parts.corners.len() as u32);
-        parts.corners.extend_from_slice(polygon);
+    // Source faces numbered densely; most keep one triangle and pass through untouched.
+    let mut base = Vec::with_capacity(sources.len());
+    let mut total = 0u32;
+    for source in sources {
+        base.push(total);
+        total += source.face_count() as u32;
     }
-    starts.push(parts.corners.len() as u32);
-    parts.face_starts = polygons.then_some(starts);
+    let dense = |f: u32| {
+        let p = provenance[f as usize];
+        base[p.operand.index()] + p.face.get()
+    };
+    let mut uses = vec![0u32; total as usize];
+    for f in 0..mesh.face_count() as u32 {
+        uses[dense(f) as usize] += 1;
+    }
+    let mut shared: Vec<u32> = (0..mesh.face_count() as u32)
+        .filter(|&f| uses[dense(f) as usize] > 1)
+        .collect();
+    shared.par_sort_unstable_by_key(|&f| (dense(f), f));
+    let runs: Vec<&[u32]> = shared.chunk_by(|&f, &g| dense(f) == dense(g)).collect();
+    let corners = mesh.corners();
+    let triangle = |f: u32| -> [u32; 3] {
+        let f = 3 * f as usize;
+        [corners[f], corners[f + 1], corners[f + 2]]
+    };
+    let dissolved = dissolved_sides(&mesh, &runs);
+    let merged: Vec<(u32, Vec<u32>)> = (runs.par_iter())
+        .flat_map_iter(|run| {
+            let region = Region::new(run, &triangle, &dissolved);
+            let source = provenance[run[0] as usize];
+            region.faces(mode, mesh.positions(), source_corners(sources, source))
+        })
+        .collect();
+    // Each merged face takes the place of its lowest triangle; its other triangles go.
+    let mut slot = vec![u32::MAX; mesh.face_count()];
+    for (i, (first, _)) in merged.iter().enumerate() {
+        slot[*first as usize] = i as u32;
+    }
+    let mut out_corners = Vec::with_capacity(corners.len());
+    let mut starts = Vec::with_capacity(mesh.face_count() + 1);
+    let mut out_provenance = Vec::with_capacity(mesh.face_count());
+    for f in 0..mesh.face_count() as u32 {
+        let polygon: &[u32] = if uses[dense(f) as usize] == 1 {
+            &corners[3 * f as usize..3 * f as usize + 3]
+        } else if slot[f as usize] != u32::MAX {
+            &merged[slot[f as usize] as usize].1
+        } else {
+            continue;
+        };
+        starts.push(out_corners.len() as u32);
+        out_corners.extend_from_slice(polygon);
+        out_provenance.push(provenance[f as usize]);
+    }
+    starts.push(out_corners.len() as u32);
+    let polygons = out_corners.len() != 3 * out_provenance.len();
+    let parts = MeshParts {
+        corners: out_corners,
+        face_starts: polygons.then_some(starts),
+        face_provenance: Some(out_provenance),
+        ..mesh.into_parts()
+    };
     Mesh::from_parts(parts).expect("merged faces use the mesh's own vertices")
 }
 
@@ -240,20 +271,39 @@ impl Region {
             .collect()
     }
 
-    /// Simple polygons covering the region (see the module docs), as lists of triangles.
+    /// Simple polygons covering the region (see the module docs), as lists of triangles: the
+    /// fewest pieces found by growing from a few evenly spaced first triangles.
     fn pieces(&self) -> Vec<Vec<u32>> {
+        let n = self.triangles.len();
+        let mut best = self.pieces_from(0);
+        let step = n.div_ceil(PIECE_STARTS).max(1);
+        for start in (step..n).step_by(step) {
+            if best.len() <= 2 {
+                break;
+            }
+            let other = self.pieces_from(start);
+            if other.len() < best.len() {
+                best = other;
+            }
+        }
+        best
+    }
+
+    /// Pieces grown from triangle `start` first, then from the lowest triangle left, then
+    /// joined where neighbours share only the side between them.
+    fn pieces_from(&self, start: usize) -> Vec<Vec<u32>> {
         let n = self.triangles.len();
         let mut piece_of = vec![u32::MAX; n];
         let mut corners: Vec<FxHashSet<u32>> = Vec::new();
-        for start in 0..n {
-            if piece_of[start] != u32::MAX {
+        for seed in std::iter::once(start).chain(0..n) {
+            if piece_of[seed] != u32::MAX {
                 continue;
             }
             let p = corners.len() as u32;
-            piece_of[start] = p;
-            let mut have: FxHashSet<u32> = self.triangles[start].into_iter().collect();
-            let mut queue = vec![start as u32];
-            while let Some(i) = queue.pop() {
+            piece_of[seed] = p;
+            let mut have: FxHashSet<u32> = self.triangles[seed].into_iter().collect();
+            let mut queue = std::collections::VecDeque::from([seed as u32]);
+            while let Some(i) = queue.pop_front() {
                 for j in 0..3 {
                     let Some(k) = self.across[i as usize][j] else {
                         continue;
@@ -264,7 +314,7 @@ impl Region {
                     let third = self.third_corner(k, i, j);
                     if have.insert(third) {
                         piece_of[k as usize] = p;
-                        queue.push(k);
+                        queue.push_back(k);
                     }
                 }
             }

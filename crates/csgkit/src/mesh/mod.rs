@@ -113,7 +113,7 @@ pub struct MeshParts {
     /// Per-face provenance.
     pub face_provenance: Option<Vec<Provenance>>,
     /// Per-corner texture coordinate.
-    pub corner_uvs: Option<Vec<[f32; 2]>>,
+    pub corner_uvs: Option<Vec<[f64; 2]>>,
     /// Per-corner normal.
     pub corner_normals: Option<Vec<[f32; 3]>>,
     /// Per-vertex colour.
@@ -294,7 +294,7 @@ impl Mesh {
     }
 
     /// Per-corner texture coordinates, if the mesh has them.
-    pub fn corner_uvs(&self) -> Option<&[[f32; 2]]> {
+    pub fn corner_uvs(&self) -> Option<&[[f64; 2]]> {
         self.parts.corner_uvs.as_deref()
     }
 

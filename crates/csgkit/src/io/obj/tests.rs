@@ -50,7 +50,7 @@ fn round_trip_keeps_positions_faces_and_attributes() {
         materials: vec!["a".into(), "b".into()],
         face_groups: Some(vec![0, 1]),
         groups: vec!["g0".into(), "g1".into()],
-        corner_uvs: Some((0..7).map(|i| [i as f32 * 0.1, 0.5]).collect()),
+        corner_uvs: Some((0..7).map(|i| [i as f64 * 0.1, 0.5]).collect()),
         corner_normals: Some(vec![[0.0, 0.0, 1.0]; 7]),
         vertex_colors: Some(vec![[1, 2, 3, 255]; 4]),
         material_libraries: vec!["m.mtl".into()],
