@@ -13,7 +13,8 @@
 //!
 //! The writer prints coordinates in shortest round-trip form (`ryu`), so reading back gives
 //! bit-identical positions, and groups faces by material under `usemtl` (a stable sort, so a
-//! file already grouped keeps its face order). It writes one `vt`/`vn` per corner, vertex
+//! file already grouped keeps its face order). It writes one `vt`/`vn` per distinct value
+//! (bit-identical values share a line; a seam keeps its two values), vertex
 //! colours as `r g b` floats (alpha is dropped), `g` lines where the group changes, and no
 //! face colours or provenance, which OBJ cannot hold. Name tables are rebuilt in order of first
 //! use on reading, so their order may change in a round trip.
@@ -269,13 +270,55 @@ pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) {
         }
         out.push(b'\n');
     }
-    for uv in mesh.corner_uvs().unwrap_or_default() {
-        write_floats(out, b"vt", uv, &mut f);
+    let uvs = distinct(mesh.corner_uvs().unwrap_or_default(), |uv| {
+        uv.map(f64::to_bits)
+    });
+    for &c in &uvs.first_corners {
+        write_floats(
+            out,
+            b"vt",
+            &mesh.corner_uvs().unwrap_or_default()[c as usize],
+            &mut f,
+        );
     }
-    for n in mesh.corner_normals().unwrap_or_default() {
-        write_floats(out, b"vn", n, &mut f);
+    let normals = distinct(mesh.corner_normals().unwrap_or_default(), |n| {
+        n.map(f32::to_bits)
+    });
+    for &c in &normals.first_corners {
+        write_floats(
+            out,
+            b"vn",
+            &mesh.corner_normals().unwrap_or_default()[c as usize],
+            &mut f,
+        );
     }
-    write_faces(mesh, out);
+    write_faces(mesh, &uvs.of_corner, &normals.of_corner, out);
+}
+
+/// Corner attribute values, each written once: bit-identical values share one `vt` or `vn`
+/// line, so only seams (different values at one vertex) repeat a vertex's attribute.
+struct Distinct {
+    /// The first corner with each distinct value, in order of first use.
+    first_corners: Vec<u32>,
+    /// Per corner: the index of its value among them.
+    of_corner: Vec<u32>,
+}
+
+fn distinct<T, K: std::hash::Hash + Eq>(values: &[T], key: impl Fn(&T) -> K) -> Distinct {
+    let mut index: rustc_hash::FxHashMap<K, u32> = rustc_hash::FxHashMap::default();
+    let mut first_corners = Vec::new();
+    let of_corner = (values.iter().enumerate())
+        .map(|(c, value)| {
+            *index.entry(key(value)).or_insert_with(|| {
+                first_corners.push(c as u32);
+                first_corners.len() as u32 - 1
+            })
+        })
+        .collect();
+    Distinct {
+        first_corners,
+        of_corner,
+    }
 }
 
 /// Writes one line made of `pieces`.
@@ -301,7 +344,8 @@ fn write_floats<T: ryu::Float>(
 }
 
 /// Writes the `f` lines, grouped by material, with `usemtl` and `g` where the name changes.
-fn write_faces(mesh: &Mesh, out: &mut Vec<u8>) {
+/// `uv_of` and `normal_of` give each corner's `vt` and `vn` index (empty without them).
+fn write_faces(mesh: &Mesh, uv_of: &[u32], normal_of: &[u32], out: &mut Vec<u8>) {
     let mut order: Vec<usize> = (0..mesh.face_count()).collect();
     if let Some(materials) = mesh.face_materials() {
         order.sort_by_key(|&f| materials[f]);
@@ -334,12 +378,12 @@ fn write_faces(mesh: &Mesh, out: &mut Vec<u8>) {
             if has_uv || has_normal {
                 out.push(b'/');
                 if has_uv {
-                    out.extend_from_slice(int.format(corner + 1).as_bytes());
+                    out.extend_from_slice(int.format(uv_of[corner] + 1).as_bytes());
                 }
             }
             if has_normal {
                 out.push(b'/');
-                out.extend_from_slice(int.format(corner + 1).as_bytes());
+                out.extend_from_slice(int.format(normal_of[corner] + 1).as_bytes());
             }
         }
         out.push(b'\n');
