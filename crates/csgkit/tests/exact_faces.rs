@@ -276,3 +276,66 @@ fn chained_differences_have_the_faces_of_one_n_ary_difference() {
         }
     }
 }
+
+/// A chain through a file, where the first result's faces come back flat only to an ulp:
+/// exactly, the second cut must keep every point where it crosses a side between two of
+/// those triangles, so the chained result has more vertices than one n-ary difference; with
+/// `simplify`, it has no more, its volume is the n-ary difference's to within the
+/// tolerance's effect, and it is still a certified solid. (Every difference merges coplanar
+/// faces, so the cube's square faces are one face each.)
+#[test]
+fn simplify_keeps_a_chain_through_files_as_small_as_one_difference() {
+    let cube = csgkit::csg::primitives::cuboid([-1.0; 3], [1.0; 3]);
+    let tilted = |axis: [f64; 3], angle: f64, offset: [f64; 3]| {
+        let drill = cylinder([0.0, 0.0, -2.0], 0.3, 4.0, 24);
+        crate::util::transformed(&drill, &crate::util::rotation(axis, angle), offset)
+    };
+    let drills = [
+        tilted([1.0, 0.3, 0.0], 0.5, [0.1, -0.2, 0.0]),
+        tilted([0.2, 1.0, 0.5], 0.9, [-0.15, 0.25, 0.1]),
+    ];
+    let merged = BooleanOptions {
+        faces: FaceMode::Triangles,
+        merge_coplanar: true,
+        ..BooleanOptions::default()
+    };
+    let once = (boolean(Difference, &[&cube, &drills[0], &drills[1]], &merged))
+        .expect("a difference")
+        .mesh;
+    let first = (boolean(Difference, &[&cube, &drills[0]], &merged))
+        .expect("a difference")
+        .mesh;
+    let bytes =
+        csgkit::write_mesh_to_bytes(&first, Format::Obj, Encoding::default()).expect("an OBJ");
+    let read = csgkit::read_mesh_from_bytes(&bytes, Some(Format::Obj))
+        .expect("the OBJ reads back")
+        .mesh;
+    let run = |simplify: Option<f64>| {
+        let options = BooleanOptions {
+            faces: FaceMode::Triangles,
+            merge_coplanar: true,
+            simplify,
+            ..BooleanOptions::default()
+        };
+        let mesh = (boolean(Difference, &[&read, &drills[1]], &options))
+            .expect("a difference")
+            .mesh;
+        assert_valid(&mesh, "a chained difference");
+        mesh
+    };
+    let (exact, simplified) = (run(None), run(Some(1e-9)));
+    assert!(
+        exact.vertex_count() > once.vertex_count(),
+        "exact chain: {} vertices, one difference {}",
+        exact.vertex_count(),
+        once.vertex_count()
+    );
+    assert!(
+        simplified.vertex_count() <= once.vertex_count(),
+        "simplified chain: {} vertices, one difference {}",
+        simplified.vertex_count(),
+        once.vertex_count()
+    );
+    let volume = |m: &Mesh| m.report().measures.volume;
+    assert_close(volume(&simplified), volume(&once), 1e-8, 8.0, "volume");
+}

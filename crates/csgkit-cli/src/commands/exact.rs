@@ -84,6 +84,12 @@ pub struct FaceArgs {
     /// source faces: chains of booleans through files then stay small.
     #[arg(long)]
     pub merge_coplanar: bool,
+    /// Also merge neighbouring faces that are flat to within TOL (a length, in the model's
+    /// units; they must look alike as for --merge-coplanar) and remove the vertices only they
+    /// need, each removal moving the surface by at most TOL; the result is still certified.
+    /// For chains of booleans through files, whose faces come back flat only to an ulp.
+    #[arg(long, value_name = "TOL")]
+    pub simplify: Option<f64>,
 }
 
 impl FaceArgs {
@@ -173,6 +179,7 @@ fn compute(
         split_non_manifold: args.manifold,
         faces: args.faces.face_mode(format),
         merge_coplanar: args.faces.merge_coplanar,
+        simplify: args.faces.simplify,
         progress: Some(&show),
     };
     let result = boolean(op, &operands, &options);

@@ -49,7 +49,9 @@ pub mod intersect;
 mod reconstruct;
 mod select;
 pub mod self_intersect;
+mod simplify;
 mod split;
+mod star;
 mod subdivide;
 mod winding;
 

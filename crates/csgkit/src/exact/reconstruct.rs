@@ -45,10 +45,12 @@ use rustc_hash::FxHashMap;
 
 use crate::kernel::{Axis, Point, Sign, compare_along, orient2d_projected, orient3d};
 use crate::mesh::union_find::UnionFind;
+use crate::mesh::vector::triangle_shape;
 use crate::mesh::{FaceId, Mesh, OperandId, Provenance};
 
 use super::ingest::Input;
 use super::select::Kept;
+use super::star::{self, Collapse};
 use super::subdivide::Arrangement;
 
 /// The kept sub-triangles after reconstruction.
@@ -240,7 +242,7 @@ impl FaceGroups {
             for i in 0..3 {
                 let (a, b) = (t[i], t[(i + 1) % 3]);
                 let (first, uses) = edges[&(a.min(b), a.max(b))];
-                if uses == 2 && first != k as u32 && a > b {
+                if uses == 2 && first != k as u32 {
                     pairs.push((first, k as u32));
                 }
             }
@@ -248,21 +250,20 @@ impl FaceGroups {
         for (k, l) in pairs {
             let (s, t) = (source[k as usize], source[l as usize]);
             let (g, h) = (self.group(input, s), self.group(input, t));
-            if g != h && look_alike(input, operands, s, t) && coplanar(input, s, t) {
+            let alike = faces_look_alike(operands, source_face(input, s), source_face(input, t));
+            if g != h && alike && coplanar(input, s, t) {
                 self.join(g, h);
             }
         }
     }
 }
 
-/// Whether the faces of input triangles `s` and `t` have the same material, group and colour
-/// names or values, and neither operand has corner attributes.
-fn look_alike(input: &Input, operands: &[&Mesh], s: u32, t: u32) -> bool {
-    let side = |t: u32| {
-        let mesh = operands[input.operand[t as usize] as usize];
-        (mesh, input.face[t as usize].index())
-    };
-    let ((m, f), (n, g)) = (side(s), side(t));
+/// Whether source faces `p` and `q` have the same material, group and colour names or
+/// values, and neither operand has corner attributes (UVs and normals are defined per source
+/// face, so faces that have them are never joined).
+pub(crate) fn faces_look_alike(operands: &[&Mesh], p: Provenance, q: Provenance) -> bool {
+    let side = |p: Provenance| (operands[p.operand.index()], p.face.index());
+    let ((m, f), (n, g)) = (side(p), side(q));
     let corner_free = |mesh: &Mesh| mesh.corner_uvs().is_none() && mesh.corner_normals().is_none();
     fn material(mesh: &Mesh, f: usize) -> Option<&str> {
         (mesh.face_materials()).map(|ids| mesh.materials()[ids[f] as usize].as_str())
@@ -276,6 +277,14 @@ fn look_alike(input: &Input, operands: &[&Mesh], s: u32, t: u32) -> bool {
         && material(m, f) == material(n, g)
         && group(m, f) == group(n, g)
         && colour(m, f) == colour(n, g)
+}
+
+/// The source face of input triangle `t`.
+fn source_face(input: &Input, t: u32) -> Provenance {
+    Provenance {
+        operand: OperandId::new(input.operand[t as usize] as usize),
+        face: input.face[t as usize],
+    }
 }
 
 /// Whether input triangles `s` and `t` lie in one plane, exactly.
@@ -305,22 +314,6 @@ struct Fans {
     /// Per intersection point (vertex id minus the input vertex count): the triangles that
     /// use it, dead ones included.
     incident: Vec<Vec<u32>>,
-}
-
-/// A collapse of a vertex: the shape of its worst new triangle, and each new triangle with the
-/// one it replaces.
-type Collapse = (f64, Vec<(u32, [u32; 3])>);
-
-/// One edge at a vertex: the neighbour it leads to, and the triangles that use it leaving
-/// the vertex and arriving at it.
-#[derive(Clone, Copy, Debug)]
-struct Spoke {
-    to: u32,
-    outgoing: u32,
-    incoming: u32,
-    /// A triangle using the edge leaving the vertex, and one using it arriving.
-    out_triangle: u32,
-    in_triangle: u32,
 }
 
 impl Fans {
@@ -400,19 +393,10 @@ impl Fans {
         if fan.is_empty() {
             return false;
         }
-        let spokes = self.spokes(v, &fan);
-        // One disk around `v`: every edge has one use each way, and turning around `v`
-        // from one triangle meets them all.
-        if spokes.len() != fan.len()
-            || spokes.iter().any(|s| s.outgoing != 1 || s.incoming != 1)
-            || !self.is_one_disk(v, &fan, &spokes)
-        {
+        let Some(spokes) = star::disk(&self.triangles, v, &fan) else {
             return false;
-        }
-        let bounding: Vec<u32> = (spokes.iter())
-            .filter(|s| self.group[s.out_triangle as usize] != self.group[s.in_triangle as usize])
-            .map(|s| s.to)
-            .collect();
+        };
+        let bounding = star::bounding(&spokes, |l| self.group[l as usize]);
         let point = |v: u32| arr.point(input, v);
         let targets: Vec<u32> = match bounding[..] {
             [] => spokes.iter().map(|s| s.to).collect(),
@@ -443,61 +427,6 @@ impl Fans {
             self.push(t, source, reversed, group, None, explicit);
         }
         true
-    }
-
-    /// The edges at `v` of the triangles of `fan`, by neighbour.
-    fn spokes(&self, v: u32, fan: &[u32]) -> Vec<Spoke> {
-        let mut spokes: Vec<Spoke> = Vec::with_capacity(fan.len() + 1);
-        let mut spoke = |to: u32, l: u32, leaving: bool| {
-            let at = match spokes.iter().position(|s| s.to == to) {
-                Some(at) => at,
-                None => {
-                    spokes.push(Spoke {
-                        to,
-                        outgoing: 0,
-                        incoming: 0,
-                        out_triangle: l,
-                        in_triangle: l,
-                    });
-                    spokes.len() - 1
-                }
-            };
-            let s = &mut spokes[at];
-            if leaving {
-                s.outgoing += 1;
-                s.out_triangle = l;
-            } else {
-                s.incoming += 1;
-                s.in_triangle = l;
-            }
-        };
-        for &l in fan {
-            let t = self.triangles[l as usize];
-            let i = t.iter().position(|&x| x == v).expect("the fan uses v");
-            spoke(t[(i + 1) % 3], l, true);
-            spoke(t[(i + 2) % 3], l, false);
-        }
-        spokes
-    }
-
-    /// Whether turning around `v` through the triangles of `fan` (each edge leads to the
-    /// triangle using it the other way) visits every triangle before it returns.
-    fn is_one_disk(&self, v: u32, fan: &[u32], spokes: &[Spoke]) -> bool {
-        let mut at = fan[0];
-        for step in 1..=fan.len() {
-            let t = self.triangles[at as usize];
-            let i = t.iter().position(|&x| x == v).expect("the fan uses v");
-            let next = t[(i + 1) % 3];
-            let spoke = spokes
-                .iter()
-                .find(|s| s.to == next)
-                .expect("every edge is a spoke");
-            at = spoke.in_triangle;
-            if at == fan[0] {
-                return step == fan.len();
-            }
-        }
-        false
     }
 
     /// Whether the input triangles of each face's part of `fan` lie in one plane.
@@ -546,7 +475,7 @@ impl Fans {
             if orient2d_projected(&a, &b, &c, source.drop_axis()) != want {
                 return None;
             }
-            worst = worst.min(shape(&[a, b, c]));
+            worst = worst.min(triangle_shape([a, b, c].map(|p| p.approx())));
             new.push((l, moved));
         }
         Some((worst, new))
@@ -565,24 +494,4 @@ fn is_between(u: &Point, v: &Point, w: &Point) -> bool {
     let axis = Axis::of_largest([pw[0] - pu[0], pw[1] - pu[1], pw[2] - pu[2]]);
     let before = compare_along(u, v, axis);
     before != std::cmp::Ordering::Equal && before == compare_along(v, w, axis)
-}
-
-/// Twice the area over the longest side squared: 0 for a needle, √3/2 for an equilateral
-/// triangle (f64, to choose between valid collapses).
-fn shape(corners: &[Point; 3]) -> f64 {
-    let [a, b, c] = corners.map(|p| p.approx());
-    let d = |p: [f64; 3], q: [f64; 3]| [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-    let (u, v, w) = (d(a, b), d(a, c), d(b, c));
-    let cross = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    let norm2 = |x: [f64; 3]| x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-    let longest = norm2(u).max(norm2(v)).max(norm2(w));
-    if longest == 0.0 {
-        0.0
-    } else {
-        norm2(cross).sqrt() / longest
-    }
 }

@@ -2,6 +2,7 @@
 //! attributes (UV, normal): shared by the readers, which build them, and by the engines, whose
 //! results inherit them from the faces they were cut from.
 
+use super::vector::{dot, triangle_normal};
 use rustc_hash::FxHashMap;
 
 use super::{FaceId, Mesh, MeshParts, Rgba, triangulate_faces_partial};
@@ -149,12 +150,12 @@ fn interpolated(mesh: &Mesh, source_faces: &[(usize, usize)], sources: &[&Mesh])
         let triangles = pieces[k].get(source_face).map_or(&[][..], Vec::as_slice);
         let at = |c: usize| source.positions()[source.corners()[c] as usize];
         let source_normal = (triangles.iter())
-            .map(|t| normal(t.map(at)))
+            .map(|t| triangle_normal(t.map(at)))
             .fold([0.0; 3], |n, m| [n[0] + m[0], n[1] + m[1], n[2] + m[2]]);
         // The polygon's own normal: the sum over a fan, right for non-convex faces too.
         let own = (1..corners.len() - 1)
             .map(|i| {
-                normal(
+                triangle_normal(
                     [corners[0], corners[i], corners[i + 1]].map(|v| mesh.positions()[v as usize]),
                 )
             })
@@ -265,23 +266,6 @@ fn barycentric(p: [f64; 3], t: [[f64; 3]; 3], normal: [f64; 3]) -> Option<[f64; 
 
 fn min3(w: [f64; 3]) -> f64 {
     w[0].min(w[1]).min(w[2])
-}
-
-/// The (unnormalised) normal of a triangle.
-fn normal(p: [[f64; 3]; 3]) -> [f64; 3] {
-    let (a, b) = (
-        [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]],
-        [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]],
-    );
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Per face, the id of its source face's name (through `table` of the source's parts) in one

@@ -28,6 +28,7 @@
 //! # Complexity
 //! O(C) time for C corners, O(1) extra memory.
 
+use super::vector::{cross, dot, norm, sub};
 use serde::Serialize;
 
 use super::Mesh;
@@ -133,26 +134,6 @@ impl CompensatedSum {
     fn total(self) -> f64 {
         self.sum + self.compensation
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 #[cfg(test)]

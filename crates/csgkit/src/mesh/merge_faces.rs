@@ -45,6 +45,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::kernel::{Axis, Sign, orient2d};
 
+use super::vector::triangle_normal;
 use super::{Mesh, MeshParts, Provenance};
 
 /// How many first triangles piece growing tries in a region that needs more than two pieces.
@@ -409,7 +410,7 @@ impl Region {
         let (a, b, c) = (t[j], t[(j + 1) % 3], t[(j + 2) % 3]);
         let d = self.third_corner(k, i, j);
         let p = |v: u32| positions[v as usize];
-        let normal = cross(sub(p(b), p(a)), sub(p(c), p(a)));
+        let normal = triangle_normal([p(a), p(b), p(c)]);
         let drop = Axis::of_largest(normal).index();
         let (u, w) = ((drop + 1) % 3, (drop + 2) % 3);
         let flat = |v: u32| [p(v)[u], p(v)[w]];
@@ -472,16 +473,4 @@ fn as_read(polygon: &mut [u32], positions: &[[f64; 3]], source: &[[f64; 3]]) {
     if (0..n).all(|m| at(polygon[(start + m) % n]) == source[m]) {
         polygon.rotate_left(start);
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(u: [f64; 3], v: [f64; 3]) -> [f64; 3] {
-    [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ]
 }

@@ -55,6 +55,7 @@ mod topology;
 pub mod triangulate;
 pub(crate) mod union_find;
 mod validation;
+pub(crate) mod vector;
 mod weld;
 
 pub use attributes::inherit_attributes;
