@@ -352,3 +352,89 @@ fn plane_distance(t: [[f64; 3]; 3], p: [f64; 3]) -> f64 {
     }
     dot(n, sub(p, t[0])).abs() / length
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit cube as triangles, with the top face fanned around a centre raised by
+    /// `lift`, and the front bottom edge split at a midpoint moved out by `lift`: each face
+    /// its own provenance.
+    fn cube_with_extra_vertices(lift: f64) -> Mesh {
+        let mut positions: Vec<[f64; 3]> = (0..8)
+            .map(|i| [0, 1, 2].map(|k| f64::from((i >> k) & 1)))
+            .collect();
+        positions.push([0.5, 0.5, 1.0 + lift]); // 8: centre of the top
+        positions.push([0.5, -lift, 0.0]); // 9: on the edge from 0 to 1
+        let triangles: Vec<[u32; 3]> = vec![
+            [0, 4, 6],
+            [0, 6, 2], // x = 0
+            [1, 3, 7],
+            [1, 7, 5], // x = 1
+            [0, 9, 5],
+            [0, 5, 4],
+            [9, 1, 5], // y = 0, split at 9
+            [2, 6, 7],
+            [2, 7, 3], // y = 1
+            [0, 2, 9],
+            [9, 2, 3],
+            [9, 3, 1], // z = 0, split at 9
+            [4, 5, 8],
+            [5, 7, 8],
+            [7, 6, 8],
+            [6, 4, 8], // z = 1, fanned at 8
+        ];
+        let provenance = (0..triangles.len())
+            .map(|f| Provenance {
+                operand: OperandId::new(0),
+                face: FaceId::new(f),
+            })
+            .collect();
+        Mesh::from_parts(MeshParts {
+            positions,
+            corners: triangles.concat(),
+            face_provenance: Some(provenance),
+            ..MeshParts::default()
+        })
+        .expect("a valid mesh")
+    }
+
+    fn simplified(lift: f64, delta: f64) -> (Mesh, usize) {
+        let mesh = cube_with_extra_vertices(lift);
+        let rounded = Rounded {
+            moved: vec![false; mesh.vertex_count()],
+            mesh: mesh.clone(),
+            rounded: 0,
+        };
+        let (out, removed) = simplify(rounded, &[&mesh], delta);
+        (out.mesh, removed)
+    }
+
+    #[test]
+    fn vertices_off_flat_faces_by_less_than_the_tolerance_go() {
+        let (mesh, removed) = simplified(1e-13, 1e-9);
+        assert_eq!(removed, 2);
+        assert_eq!(mesh.vertex_count(), 8);
+        assert_eq!(mesh.face_count(), 12);
+        let report = mesh.report();
+        assert!(report.is_valid_solid());
+        assert!((report.measures.volume - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn vertices_farther_than_the_tolerance_stay() {
+        let (mesh, removed) = simplified(1e-6, 1e-9);
+        assert_eq!(removed, 0);
+        assert_eq!(mesh.vertex_count(), 10);
+    }
+
+    #[test]
+    fn faces_flat_to_within_the_tolerance_share_a_provenance() {
+        let (mesh, _) = simplified(1e-13, 1e-9);
+        let provenance = mesh.face_provenance().expect("provenance");
+        let mut faces: Vec<Provenance> = provenance.to_vec();
+        faces.sort_unstable();
+        faces.dedup();
+        assert_eq!(faces.len(), 6, "one provenance per side of the cube");
+    }
+}
