@@ -6,7 +6,7 @@ use csgkit::csg::primitives::cuboid;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::FaceMode;
 
-use crate::util::{assert_no_self_intersection, box_of_quads};
+use crate::util::{assert_no_self_intersection, box_of_quads, polygon_normal};
 
 use Operation::{Difference, Intersection, Union};
 
@@ -402,21 +402,6 @@ fn corners_keep_uvs_interpolated_in_their_source_face_and_normals_follow_orienta
             }
         }
     }
-}
-
-/// The normal of a polygon (the sum over a fan of its corners), any length.
-fn polygon_normal(p: &[[f64; 3]]) -> [f64; 3] {
-    let mut n = [0.0; 3];
-    for i in 1..p.len() - 1 {
-        let (u, w) = (
-            [0, 1, 2].map(|k| p[i][k] - p[0][k]),
-            [0, 1, 2].map(|k| p[i + 1][k] - p[0][k]),
-        );
-        n[0] += u[1] * w[2] - u[2] * w[1];
-        n[1] += u[2] * w[0] - u[0] * w[2];
-        n[2] += u[0] * w[1] - u[1] * w[0];
-    }
-    n
 }
 
 /// A vertex colour that is an affine function of position.

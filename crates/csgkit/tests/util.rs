@@ -193,3 +193,18 @@ pub fn box_of_quads(min: [f64; 3], max: [f64; 3], materials: [&str; 3]) -> csgki
     })
     .expect("a valid box")
 }
+
+/// The normal of a polygon (the sum over a fan of its corners), any length.
+pub fn polygon_normal(p: &[[f64; 3]]) -> [f64; 3] {
+    let mut n = [0.0; 3];
+    for i in 1..p.len() - 1 {
+        let (u, w) = (
+            [0, 1, 2].map(|k| p[i][k] - p[0][k]),
+            [0, 1, 2].map(|k| p[i + 1][k] - p[0][k]),
+        );
+        n[0] += u[1] * w[2] - u[2] * w[1];
+        n[1] += u[2] * w[0] - u[0] * w[2];
+        n[2] += u[0] * w[1] - u[1] * w[0];
+    }
+    n
+}

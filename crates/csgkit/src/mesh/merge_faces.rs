@@ -7,8 +7,10 @@
 //! names. Out, by [`FaceMode`]:
 //! - [`FaceMode::Triangles`]: the mesh unchanged;
 //! - [`FaceMode::Polygons`]: every face a simple polygon (no corner repeated) that is a union
-//!   of the input's triangles of one provenance; a region with holes, or whose boundary
-//!   touches itself, is cut into few such pieces along existing triangle sides;
+//!   of the input's triangles of one provenance and that the fan from its first corner
+//!   triangulates (so readers that fan polygons, as many do, read it right); a region with
+//!   holes, or that no corner sees whole, is cut into few such pieces along existing
+//!   triangle sides;
 //! - [`FaceMode::Quads`]: triangles and strictly convex quads, each quad two triangles of one
 //!   provenance.
 //!
@@ -19,22 +21,26 @@
 //! Only triangle sides used by exactly two triangles, once in each direction, both of one
 //! provenance, are dissolved, so edges where more faces meet stay, and the polygons conform
 //! to their neighbours exactly as the triangles did. Every decision is combinatorial, except
-//! the convexity of quads (exact `orient2d` of the f64 corners projected along the dominant
-//! axis of the first triangle's normal). Because every face is a union of the input's
-//! triangles, the triangles certify every face: the triangulation the input had is one
-//! triangulation of each face without new vertices.
+//! the convexity of quads and the apex's view of a piece (exact `orient2d` of the f64 corners
+//! projected along the dominant axis of the first triangle's or the region's normal).
+//! Because every face is a union of the input's triangles, the input's triangulation, which
+//! the engine certified, is one triangulation of each face without new vertices; the fan from
+//! the first corner is another, valid in the face's projection (a face is flat only to the
+//! rounding of its corners, so a consumer that needs the certified one asks for triangles).
 //!
 //! # Algorithm
 //! A provenance with one triangle is that triangle (counted per source face, so nearly all
 //! of a large result passes through in one linear scan). The others are sorted by
-//! provenance, and for each: the sides to dissolve (their uses counted over the whole mesh), the connected
-//! regions across them, and per region:
-//! - polygons: pieces grown breadth-first across dissolved sides, a triangle joining when its
-//!   third corner is not yet in the piece (so the piece stays a disk with a simple
-//!   boundary), then adjacent pieces joined while they share only the side between them; a
-//!   region that needs more than two pieces (a face with holes needs at least two) is grown
-//!   again from up to [`PIECE_STARTS`] first triangles and the fewest pieces kept; each
-//!   piece's boundary is traced by turning around its corners through its triangles;
+//! provenance, and for each: the sides to dissolve (their uses counted over the whole
+//! mesh), the connected regions across them, and per region:
+//! - polygons: pieces grown breadth-first across dissolved sides from the lowest free
+//!   triangle, with each of its corners as apex in turn (the largest piece kept): a triangle
+//!   joins when its third corner is not yet in the piece (so the piece stays a disk with a
+//!   simple boundary) and the apex sees both its new boundary sides (exact `orient2d` in the
+//!   region's projection: the fan triangle turns like the region, so the fan tiles the
+//!   piece); then neighbouring pieces are joined while they share only the side between them
+//!   and the apex of one sees the other's whole boundary; each piece's boundary is traced by
+//!   turning around its corners through its triangles and starts at the apex;
 //! - quads: triangles paired greedily across dissolved sides where the pair is strictly
 //!   convex, those with fewest choices first.
 //!
@@ -47,9 +53,6 @@ use crate::kernel::{Axis, Sign, orient2d};
 
 use super::vector::triangle_normal;
 use super::{Mesh, MeshParts, Provenance};
-
-/// How many first triangles piece growing tries in a region that needs more than two pieces.
-const PIECE_STARTS: usize = 16;
 
 /// The faces an engine writes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -254,17 +257,32 @@ impl Region {
         positions: &[[f64; 3]],
         source: Vec<[f64; 3]>,
     ) -> Vec<(u32, Vec<u32>)> {
-        let pieces = match mode {
-            FaceMode::Polygons => self.pieces(),
-            FaceMode::Quads => self.quads(positions),
-            FaceMode::Triangles => (0..self.triangles.len() as u32).map(|i| vec![i]).collect(),
+        let first = self
+            .faces
+            .iter()
+            .copied()
+            .min()
+            .expect("a region has a triangle");
+        if let Some(polygon) = self.as_read(positions, &source) {
+            return vec![(first, polygon)];
+        }
+        let frame = Frame::of(&self.triangles, positions);
+        let pieces: Vec<(Vec<u32>, Option<u32>)> = match mode {
+            FaceMode::Polygons => (self.fans(&frame, positions).into_iter())
+                .map(|(piece, apex)| (piece, Some(apex)))
+                .collect(),
+            FaceMode::Quads => (self.quads(positions).into_iter())
+                .map(|piece| (piece, None))
+                .collect(),
+            FaceMode::Triangles => (0..self.triangles.len() as u32)
+                .map(|i| (vec![i], None))
+                .collect(),
         };
-        let whole = pieces.len() == 1;
         (pieces.into_iter())
-            .map(|piece| {
+            .map(|(piece, apex)| {
                 let mut polygon = self.boundary(&piece);
-                if whole {
-                    as_read(&mut polygon, positions, &source);
+                if let Some(at) = apex.and_then(|a| polygon.iter().position(|&v| v == a)) {
+                    polygon.rotate_left(at);
                 }
                 let first = piece.iter().map(|&i| self.faces[i as usize]).min();
                 (first.expect("a piece has a triangle"), polygon)
@@ -272,89 +290,159 @@ impl Region {
             .collect()
     }
 
-    /// Simple polygons covering the region (see the module docs), as lists of triangles: the
-    /// fewest pieces found by growing from a few evenly spaced first triangles.
-    fn pieces(&self) -> Vec<Vec<u32>> {
-        let n = self.triangles.len();
-        let mut best = self.pieces_from(0);
-        let step = n.div_ceil(PIECE_STARTS).max(1);
-        for start in (step..n).step_by(step) {
-            if best.len() <= 2 {
-                break;
-            }
-            let other = self.pieces_from(start);
-            if other.len() < best.len() {
-                best = other;
-            }
+    /// The source polygon, in its own order from its own first corner, when the region is
+    /// exactly that polygon again: one boundary loop with the source's corners at the same
+    /// positions (a face nothing cut).
+    fn as_read(&self, positions: &[[f64; 3]], source: &[[f64; 3]]) -> Option<Vec<u32>> {
+        let boundary_sides = (self.across.iter())
+            .map(|sides| sides.iter().filter(|k| k.is_none()).count())
+            .sum::<usize>();
+        if boundary_sides != source.len() {
+            return None;
         }
-        best
+        let all: Vec<u32> = (0..self.triangles.len() as u32).collect();
+        let mut polygon = self.boundary(&all);
+        let n = polygon.len();
+        let at = |v: u32| positions[v as usize];
+        if n != source.len() {
+            return None;
+        }
+        let start = (0..n).find(|&r| at(polygon[r]) == source[0])?;
+        (0..n)
+            .all(|m| at(polygon[(start + m) % n]) == source[m])
+            .then(|| {
+                polygon.rotate_left(start);
+                polygon
+            })
     }
 
-    /// Pieces grown from triangle `start` first, then from the lowest triangle left, then
-    /// joined where neighbours share only the side between them.
-    fn pieces_from(&self, start: usize) -> Vec<Vec<u32>> {
+    /// Pieces covering the region, each a simple polygon that the fan from one of its corners
+    /// (its apex) triangulates (see the module docs), as lists of triangles with the apex.
+    fn fans(&self, frame: &Frame, positions: &[[f64; 3]]) -> Vec<(Vec<u32>, u32)> {
         let n = self.triangles.len();
         let mut piece_of = vec![u32::MAX; n];
-        let mut corners: Vec<FxHashSet<u32>> = Vec::new();
-        for seed in std::iter::once(start).chain(0..n) {
-            if piece_of[seed] != u32::MAX {
+        let mut pieces: Vec<(Vec<u32>, u32)> = Vec::new();
+        for seed in 0..n as u32 {
+            if piece_of[seed as usize] != u32::MAX {
                 continue;
             }
-            let p = corners.len() as u32;
-            piece_of[seed] = p;
-            let mut have: FxHashSet<u32> = self.triangles[seed].into_iter().collect();
-            let mut queue = std::collections::VecDeque::from([seed as u32]);
-            while let Some(i) = queue.pop_front() {
-                for j in 0..3 {
-                    let Some(k) = self.across[i as usize][j] else {
-                        continue;
-                    };
-                    if piece_of[k as usize] != u32::MAX {
-                        continue;
-                    }
-                    let third = self.third_corner(k, i, j);
-                    if have.insert(third) {
-                        piece_of[k as usize] = p;
-                        queue.push_back(k);
-                    }
-                }
+            let best = (self.triangles[seed as usize].into_iter())
+                .map(|apex| (self.grow(seed, apex, &piece_of, frame, positions), apex))
+                .max_by_key(|(members, _)| members.len())
+                .expect("a triangle has corners");
+            for &i in &best.0 {
+                piece_of[i as usize] = pieces.len() as u32;
             }
-            corners.push(have);
+            pieces.push(best);
         }
-        // Join neighbouring pieces that share only the side between them.
+        // Join neighbouring pieces that share only the side between them, where the apex of
+        // one sees the whole boundary of the other.
         let mut changed = true;
         while changed {
             changed = false;
             for i in 0..n {
                 for j in 0..3 {
                     let Some(k) = self.across[i][j] else { continue };
-                    let (p, q) = (piece_of[i], piece_of[k as usize]);
-                    if p == q
-                        || corners[p as usize]
-                            .intersection(&corners[q as usize])
-                            .count()
-                            != 2
-                    {
+                    let (p, q) = (piece_of[i] as usize, piece_of[k as usize] as usize);
+                    if p == q {
                         continue;
                     }
+                    let Some(apex) = self.joined_apex(&pieces[p], &pieces[q], frame, positions)
+                    else {
+                        continue;
+                    };
                     let (keep, gone) = (p.min(q), p.max(q));
-                    let moved = std::mem::take(&mut corners[gone as usize]);
-                    corners[keep as usize].extend(moved);
-                    piece_of
-                        .iter_mut()
-                        .filter(|x| **x == gone)
-                        .for_each(|x| *x = keep);
+                    let moved = std::mem::take(&mut pieces[gone].0);
+                    for &t in &moved {
+                        piece_of[t as usize] = keep as u32;
+                    }
+                    pieces[keep].0.extend(moved);
+                    pieces[keep].1 = apex;
                     changed = true;
                 }
             }
         }
-        let mut pieces: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
-        for (i, &p) in piece_of.iter().enumerate() {
-            pieces.entry(p).or_default().push(i as u32);
+        pieces.retain(|(members, _)| !members.is_empty());
+        for (members, _) in &mut pieces {
+            members.sort_unstable();
         }
-        let mut pieces: Vec<Vec<u32>> = pieces.into_values().collect();
-        pieces.sort_unstable_by_key(|piece| piece[0]);
+        pieces.sort_unstable_by_key(|(members, _)| members[0]);
         pieces
+    }
+
+    /// The triangles of a piece grown breadth-first from `seed` across dissolved sides, among
+    /// triangles in no piece yet, while it stays simple (each new triangle brings a new
+    /// corner) and `apex` sees every side of its boundary.
+    fn grow(
+        &self,
+        seed: u32,
+        apex: u32,
+        piece_of: &[u32],
+        frame: &Frame,
+        positions: &[[f64; 3]],
+    ) -> Vec<u32> {
+        let mut members = vec![seed];
+        let mut corners: FxHashSet<u32> = self.triangles[seed as usize].into_iter().collect();
+        let mut queue = std::collections::VecDeque::from([seed]);
+        while let Some(i) = queue.pop_front() {
+            let t = self.triangles[i as usize];
+            for j in 0..3 {
+                let Some(k) = self.across[i as usize][j] else {
+                    continue;
+                };
+                if piece_of[k as usize] != u32::MAX || members.contains(&k) {
+                    continue;
+                }
+                let (a, b) = (t[j], t[(j + 1) % 3]);
+                let c = self.third_corner(k, i, j);
+                if corners.contains(&c)
+                    || !frame.sees(apex, a, c, positions)
+                    || !frame.sees(apex, c, b, positions)
+                {
+                    continue;
+                }
+                corners.insert(c);
+                members.push(k);
+                queue.push_back(k);
+            }
+        }
+        members
+    }
+
+    /// The apex of pieces `p` and `q` joined, if they share only the side between them and
+    /// the apex of one sees every boundary side of the other.
+    fn joined_apex(
+        &self,
+        p: &(Vec<u32>, u32),
+        q: &(Vec<u32>, u32),
+        frame: &Frame,
+        positions: &[[f64; 3]],
+    ) -> Option<u32> {
+        let corners = |piece: &[u32]| -> FxHashSet<u32> {
+            (piece.iter())
+                .flat_map(|&i| self.triangles[i as usize])
+                .collect()
+        };
+        if corners(&p.0).intersection(&corners(&q.0)).count() != 2 {
+            return None;
+        }
+        let sees_all = |apex: u32, other: &[u32], own: &[u32]| {
+            other.iter().all(|&i| {
+                let t = self.triangles[i as usize];
+                (0..3).all(|j| {
+                    let inner = (self.across[i as usize][j])
+                        .is_some_and(|k| other.contains(&k) || own.contains(&k));
+                    inner || frame.sees(apex, t[j], t[(j + 1) % 3], positions)
+                })
+            })
+        };
+        if sees_all(p.1, &q.0, &p.0) {
+            Some(p.1)
+        } else if sees_all(q.1, &p.0, &q.0) {
+            Some(q.1)
+        } else {
+            None
+        }
     }
 
     /// The corner of triangle `k` that is not on the side it shares with side `j` of `i`.
@@ -459,18 +547,41 @@ impl Region {
     }
 }
 
-/// Rotates `polygon` into its source face's cyclic order when it has the source's corners at
-/// the same positions (a face nothing cut), so it starts at the source's first corner.
-fn as_read(polygon: &mut [u32], positions: &[[f64; 3]], source: &[[f64; 3]]) {
-    if polygon.len() != source.len() {
-        return;
+/// The projection of a region for 2D orientation tests: the coordinates kept when the
+/// dominant axis of its summed normal is dropped, and the turn of its triangles there.
+struct Frame {
+    u: usize,
+    v: usize,
+    turn: Sign,
+}
+
+impl Frame {
+    fn of(triangles: &[[u32; 3]], positions: &[[f64; 3]]) -> Self {
+        let p = |v: u32| positions[v as usize];
+        let normal = (triangles.iter())
+            .map(|t| triangle_normal(t.map(p)))
+            .fold([0.0; 3], |n, m| [n[0] + m[0], n[1] + m[1], n[2] + m[2]]);
+        let drop = Axis::of_largest(normal).index();
+        let turn = if normal[drop] < 0.0 {
+            Sign::Negative
+        } else {
+            Sign::Positive
+        };
+        Self {
+            u: (drop + 1) % 3,
+            v: (drop + 2) % 3,
+            turn,
+        }
     }
-    let at = |v: u32| positions[v as usize];
-    let n = polygon.len();
-    let Some(start) = (0..n).find(|&r| at(polygon[r]) == source[0]) else {
-        return;
-    };
-    if (0..n).all(|m| at(polygon[(start + m) % n]) == source[m]) {
-        polygon.rotate_left(start);
+
+    /// Whether the fan triangle from `apex` over the side from `a` to `b` turns like the
+    /// region (exact `orient2d` of the projected f64 corners), or is no triangle (the side
+    /// ends at the apex).
+    fn sees(&self, apex: u32, a: u32, b: u32, positions: &[[f64; 3]]) -> bool {
+        if apex == a || apex == b {
+            return true;
+        }
+        let flat = |x: u32| [positions[x as usize][self.u], positions[x as usize][self.v]];
+        orient2d(flat(apex), flat(a), flat(b)) == self.turn
     }
 }
