@@ -308,3 +308,92 @@ fn demo_writes_the_exact_showcase() {
     let volume = report["volume"].as_f64().expect("a finite volume");
     assert!((6.6..7.0).contains(&volume), "{report}");
 }
+
+/// An OBJ box of six quads with texture coordinates and one material, in `library`.
+fn textured_box(
+    dir: &TempDir,
+    name: &str,
+    min: [f64; 3],
+    max: [f64; 3],
+    material: &str,
+) -> PathBuf {
+    let mut text = format!("mtllib {material}.mtl\n");
+    for i in 0..8 {
+        let p = [0, 1, 2].map(|k| if i >> k & 1 == 1 { max[k] } else { min[k] });
+        text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    text += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+    text += &format!("usemtl {material}\n");
+    for quad in [
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+    ] {
+        text += "f";
+        for (corner, v) in quad.iter().enumerate() {
+            text += &format!(" {v}/{}", corner + 1);
+        }
+        text += "\n";
+    }
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).expect("the operand is written");
+    path
+}
+
+/// The faces of an OBJ file, as corner counts.
+fn obj_face_sizes(path: &Path) -> Vec<usize> {
+    let text = std::fs::read_to_string(path).expect("the output reads");
+    let mut sizes: Vec<usize> = (text.lines())
+        .filter(|l| l.starts_with("f "))
+        .map(|l| l.split_whitespace().count() - 1)
+        .collect();
+    sizes.sort_unstable();
+    sizes
+}
+
+/// A textured box pushed into another: the result keeps both material libraries and both
+/// materials, every corner has a texture coordinate, and the three face modes write the
+/// counts of the library's reconstruction (16 vertices; 28 triangles, 14 quads, or 12
+/// polygons of which the top face's two hexagons).
+#[test]
+fn booleans_write_materials_uvs_and_the_face_mode_asked_for() {
+    let dir = TempDir::new().expect("a temporary directory");
+    let a = textured_box(&dir, "a.obj", [0.0; 3], [2.0; 3], "stone");
+    let b = textured_box(&dir, "b.obj", [0.5, 0.5, 1.5], [1.5, 1.5, 3.0], "wood");
+    let cases = [
+        (None, vec![3; 28]),
+        (Some("--quads"), vec![4; 14]),
+        (Some("--polygons"), [vec![4; 10], vec![6; 2]].concat()),
+    ];
+    for (flag, sizes) in cases {
+        let out = dir.path().join("out.obj");
+        let mut args = vec!["difference", arg(&a), arg(&b), "-o", arg(&out)];
+        args.extend(flag);
+        csgkit_ok(&args);
+        assert_eq!(obj_face_sizes(&out), sizes, "{flag:?}");
+        let text = std::fs::read_to_string(&out).expect("the output reads");
+        for line in [
+            "mtllib stone.mtl",
+            "mtllib wood.mtl",
+            "usemtl stone",
+            "usemtl wood",
+        ] {
+            assert!(text.lines().any(|l| l == line), "{flag:?}: no `{line}`");
+        }
+        assert!(
+            text.lines().any(|l| l.starts_with("vt ")),
+            "{flag:?}: no vt"
+        );
+        let corners_without_uv = (text.lines())
+            .filter(|l| l.starts_with("f "))
+            .flat_map(|l| l.split_whitespace().skip(1))
+            .filter(|c| !c.contains('/'))
+            .count();
+        assert_eq!(corners_without_uv, 0, "{flag:?}");
+        assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 16);
+        assert_solid(&out, 7.5, 26.0);
+    }
+}

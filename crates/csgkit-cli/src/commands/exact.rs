@@ -67,16 +67,16 @@ pub struct ExactArgs {
 /// `--merge-coplanar`), shared by every command that writes an exact result.
 #[derive(Args, Debug, Clone, Default)]
 pub struct FaceArgs {
-    /// Write each face of the result as a polygon: the part of its source face it keeps,
-    /// cut into hole-free pieces where it has holes; a face nothing cut comes back as it was
-    /// read. The default for OBJ, PLY and OFF.
+    /// Write each face of the result as polygons: the part of its source face it keeps, in
+    /// hole-free pieces that the fan from their first corner triangulates; a face nothing cut
+    /// comes back as it was read (OBJ, PLY and OFF; STL stores triangles).
     #[arg(long, group = "face_mode")]
     pub polygons: bool,
     /// Write triangles and strictly convex quads only.
     #[arg(long, group = "face_mode")]
     pub quads: bool,
-    /// Write triangles: per face, a triangulation without extra vertices. The default for
-    /// STL, which stores only triangles.
+    /// Write triangles: per face, a triangulation without extra vertices, the one the result
+    /// was certified with. The default, since many readers take only triangles.
     #[arg(long, group = "face_mode")]
     pub triangles: bool,
     /// Also merge neighbouring faces that lie exactly in one plane and have the same
@@ -93,13 +93,13 @@ pub struct FaceArgs {
 }
 
 impl FaceArgs {
-    /// The faces to write in `format`: as asked, else polygons where the format has them.
+    /// The faces to write in `format`: as asked, triangles by default and in STL.
     pub fn face_mode(&self, format: Format) -> FaceMode {
-        if self.triangles {
+        if format == Format::Stl {
             FaceMode::Triangles
         } else if self.quads {
             FaceMode::Quads
-        } else if self.polygons || format != Format::Stl {
+        } else if self.polygons {
             FaceMode::Polygons
         } else {
             FaceMode::Triangles
