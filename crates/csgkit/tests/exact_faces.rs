@@ -246,8 +246,8 @@ fn triangles_mode_adds_no_vertex_inside_a_face() {
 
 /// Two drills through a cube, one boolean after the other, give the vertices and the
 /// triangles of one n-ary difference: in the library the second step joins the pieces the
-/// first cut (they share a provenance), and through an OBJ file coplanar merging does the
-/// same.
+/// first cut (they share a provenance), through a PLY file (which keeps provenance) so does
+/// the file's, and through an OBJ file (which does not) coplanar merging does the same.
 #[test]
 fn chained_differences_have_the_faces_of_one_n_ary_difference() {
     let cube = box_of_quads([-1.0; 3], [1.0; 3], ["a"; 3]);
@@ -263,7 +263,16 @@ fn chained_differences_have_the_faces_of_one_n_ary_difference() {
         .mesh;
     assert!(
         read.face_provenance().is_none(),
-        "files carry no provenance"
+        "OBJ files carry no provenance"
+    );
+    let ply = csgkit::write_mesh_to_bytes(&first, Format::Ply, Encoding::default()).expect("a PLY");
+    let read_ply = csgkit::read_mesh_from_bytes(&ply, Some(Format::Ply))
+        .expect("the PLY reads back")
+        .mesh;
+    assert_eq!(
+        read_ply.face_provenance(),
+        first.face_provenance(),
+        "PLY keeps provenance"
     );
 
     for mode in [FaceMode::Polygons, FaceMode::Triangles] {
@@ -283,7 +292,13 @@ fn chained_differences_have_the_faces_of_one_n_ary_difference() {
         };
         let chained = run(&first, false);
         let through_file = run(&read, true);
-        for (mesh, what) in [(&chained, "library"), (&through_file, "file")] {
+        let through_ply = run(&read_ply, false);
+        let cases = [
+            (&chained, "library"),
+            (&through_file, "OBJ file, coplanar merging"),
+            (&through_ply, "PLY file, its provenance"),
+        ];
+        for (mesh, what) in cases {
             let what = format!("{mode:?}, {what}");
             let volume = mesh.report().measures.volume;
             assert_close(volume, once.report().measures.volume, 1e-12, 8.0, &what);

@@ -8,7 +8,7 @@
 
 use super::error::ParseError;
 use crate::mesh::attributes::{DEFAULT_NAME, Names, WHITE};
-use crate::mesh::{Mesh, MeshParts, Rgba};
+use crate::mesh::{FaceId, Mesh, MeshParts, OperandId, Provenance, Rgba};
 
 /// Pushes `value` on a lazily created buffer, first filling `len` defaults if it is absent.
 #[inline]
@@ -143,6 +143,15 @@ impl MeshBuilder {
             attributes.group,
         );
         put_opt(&mut self.parts.face_colors, faces, attributes.color, WHITE);
+        put_opt(
+            &mut self.parts.face_provenance,
+            faces,
+            attributes.provenance,
+            Provenance {
+                operand: OperandId::new(0),
+                face: FaceId::new(0),
+            },
+        );
         self.starts.push(end);
         Ok(())
     }
@@ -185,6 +194,8 @@ pub(crate) struct FaceAttributes<'a> {
     pub group: Option<&'a str>,
     /// Face colour.
     pub color: Option<Rgba>,
+    /// The source face (files csgkit wrote from an engine's result).
+    pub provenance: Option<Provenance>,
 }
 
 #[cfg(test)]

@@ -176,7 +176,7 @@ impl Reader {
         self.builder.end_face(FaceAttributes {
             material: self.material.as_deref(),
             group: self.group.as_deref(),
-            color: None,
+            ..FaceAttributes::default()
         })
     }
 }

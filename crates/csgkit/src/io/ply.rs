@@ -17,7 +17,10 @@
 //! The writer emits binary little-endian by default (ASCII on request), `double` coordinates,
 //! `uchar` colours, a `list uchar int vertex_indices` (`uint` counts past 255 corners) and an
 //! `int material_index`. PLY has no material names: a round trip renames them `material_N`.
-//! Groups, UVs, normals and provenance are not written.
+//! A face's provenance (the source face an engine's output face lies on) is written as `int
+//! source_operand` and `int source_face` and read back, so the faces a boolean cut from one
+//! source face merge again in the next boolean on the file. Groups, UVs and normals are not
+//! written.
 
 mod header;
 mod write;
@@ -26,7 +29,7 @@ use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};
 use super::text::{Lines, Tokens, channel, check_finite, parse_f64};
 use super::{Encoding, Format, LoadedMesh};
-use crate::mesh::Mesh;
+use crate::mesh::{FaceId, Mesh, OperandId, Provenance};
 
 use header::{Body, Element, Header, Property, Scalar, read_header};
 pub(crate) use write::write;
@@ -321,8 +324,14 @@ enum Role {
     Color(usize),
     Indices,
     Material,
+    SourceOperand,
+    SourceFace,
     Skip,
 }
+
+/// The face properties that hold provenance.
+const SOURCE_OPERAND: &str = "source_operand";
+const SOURCE_FACE: &str = "source_face";
 
 /// PLY's colour property names.
 const CHANNELS: [&str; 4] = ["red", "green", "blue", "alpha"];
@@ -377,6 +386,8 @@ fn face_role(property: &Property) -> Role {
     match property.list {
         Some(_) if matches!(name, "vertex_indices" | "vertex_index") => Role::Indices,
         None if matches!(name, "material_index" | "material_id" | "material") => Role::Material,
+        None if name == SOURCE_OPERAND => Role::SourceOperand,
+        None if name == SOURCE_FACE => Role::SourceFace,
         None => CHANNELS
             .iter()
             .position(|&n| n == name)
@@ -401,9 +412,11 @@ fn read_faces<S: Source>(
         ));
     }
     let has_color = roles.iter().any(|r| matches!(r, Role::Color(_)));
+    let has_provenance = roles.contains(&Role::SourceOperand) && roles.contains(&Role::SourceFace);
     let mut scratch = Vec::new();
     for face in 0..element.count {
         let mut color = [255u8; 4];
+        let mut source = [0u32; 2];
         for (property, role) in element.properties.iter().zip(&roles) {
             match *role {
                 Role::Indices => read_indices(src, property, face, builder, &mut scratch)?,
@@ -411,11 +424,24 @@ fn read_faces<S: Source>(
                 Role::Color(k) => {
                     color[k] = channel(src.value(property.item)?, property.item.is_float())
                 }
+                Role::SourceOperand | Role::SourceFace => {
+                    let at = src.at();
+                    let value = whole(src.value(property.item)?)
+                        .and_then(|v| u32::try_from(v).ok())
+                        .ok_or_else(|| {
+                            malformed(Format::Ply, at, "a source index is not a count")
+                        })?;
+                    source[usize::from(*role == Role::SourceFace)] = value;
+                }
                 _ => skip(src, property)?,
             }
         }
         let attributes = FaceAttributes {
             color: has_color.then_some(color),
+            provenance: has_provenance.then(|| Provenance {
+                operand: OperandId::from(source[0]),
+                face: FaceId::from(source[1]),
+            }),
             ..FaceAttributes::default()
         };
         builder.end_face(attributes)?;

@@ -1,6 +1,6 @@
 //! The PLY writer.
 
-use super::CHANNELS;
+use super::{CHANNELS, SOURCE_FACE, SOURCE_OPERAND};
 use crate::io::Encoding;
 use crate::mesh::Mesh;
 
@@ -36,6 +36,10 @@ pub(crate) fn write(mesh: &Mesh, encoding: Encoding, out: &mut Vec<u8>) {
         for &c in mesh.face_colors().map(|c| &c[face][..]).unwrap_or_default() {
             w.uint(u32::from(c), 1, false);
         }
+        if let Some(provenance) = mesh.face_provenance() {
+            w.uint(provenance[face].operand.get(), 4, false);
+            w.uint(provenance[face].face.get(), 4, false);
+        }
         w.end();
     }
 }
@@ -69,6 +73,9 @@ fn write_header(mesh: &Mesh, ascii: bool, wide: bool, out: &mut Vec<u8>) {
     }
     if mesh.face_colors().is_some() {
         channels(&mut h);
+    }
+    if mesh.face_provenance().is_some() {
+        h += &format!("property int {SOURCE_OPERAND}\nproperty int {SOURCE_FACE}\n");
     }
     h += "end_header\n";
     out.extend_from_slice(h.as_bytes());
