@@ -635,3 +635,99 @@ fn random_half_lattice_tetrahedra_match_the_oracle() {
         })
         .unwrap();
 }
+
+/// `mesh` with every face of material `name`.
+fn painted(mesh: &Mesh, name: &str) -> Mesh {
+    Mesh::from_parts(csgkit::MeshParts {
+        face_materials: Some(vec![0; mesh.face_count()]),
+        materials: vec![name.to_owned()],
+        ..mesh.clone().into_parts()
+    })
+    .expect("one material")
+}
+
+/// The area of the faces of each material of `mesh`, by name (each face's vector area, so
+/// non-convex faces count right).
+fn area_by_material(mesh: &Mesh) -> std::collections::BTreeMap<String, f64> {
+    let mut vector = vec![[0.0f64; 3]; mesh.face_count()];
+    for (f, t) in mesh.fan_triangles() {
+        let p = t.map(|v| mesh.positions()[v as usize]);
+        let (u, w) = (
+            [0, 1, 2].map(|k| p[1][k] - p[0][k]),
+            [0, 1, 2].map(|k| p[2][k] - p[0][k]),
+        );
+        let n = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
+        (0..3).for_each(|k| vector[f.index()][k] += 0.5 * n[k]);
+    }
+    let ids = mesh.face_materials().expect("materials");
+    let mut out = std::collections::BTreeMap::new();
+    for (f, a) in vector.iter().enumerate() {
+        let area = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        *out.entry(mesh.materials()[ids[f] as usize].clone())
+            .or_insert(0.0) += area;
+    }
+    out
+}
+
+/// Materials survive the discrete engine: an operand made of a red and a blue solid side by
+/// side (one closed shell per material) united with a green bar keeps red and blue where it
+/// had them and the bar is green only where it adds voxels; the difference keeps red and
+/// blue on what is left, and the faces the bar cut are those of the solid behind them. Face
+/// areas per material are exact (integer boxes on a unit grid).
+#[test]
+fn discrete_results_keep_the_material_of_the_solid_behind_each_face() {
+    use csgkit::discrete::{discretize_parts, label, labelled_mesh};
+    let (grid, _) = Grid::for_cells(&[1.0]).expect("a unit grid");
+    let two = {
+        let red = painted(&cuboid([0.0; 3], [2.0; 3]), "red");
+        let blue = painted(&cuboid([2.0, 0.0, 0.0], [4.0, 2.0, 2.0]), "blue");
+        let mut parts = concat(&[&red, &blue]).into_parts();
+        parts.face_materials = Some((0..24).map(|f| u32::from(f >= 12)).collect());
+        parts.materials = vec!["red".into(), "blue".into()];
+        Mesh::from_parts(parts).expect("two painted boxes")
+    };
+    let bar = painted(&cuboid([1.0, 1.0, 1.0], [3.0, 3.0, 2.0]), "green");
+    let options = DiscretizeOptions::default();
+    let operands = [
+        discretize_parts(&two, grid, 0, options).expect("two parts"),
+        discretize_parts(&bar, grid, 0, options).expect("one part"),
+    ];
+    assert_eq!(operands[0].len(), 2, "one part per closed material");
+    let whole = |parts: &[csgkit::discrete::MaterialSolid]| {
+        let solids: Vec<Solid> = parts.iter().map(|p| p.solid.clone()).collect();
+        Solid::op_all(&solids, BoolOp::Union).unwrap().unwrap()
+    };
+    let (a, b) = (whole(&operands[0]), whole(&operands[1]));
+
+    let union = label(&a.union(&b).unwrap(), &operands).unwrap();
+    let counts: Vec<(&str, u64)> = (union.iter())
+        .map(|p| (p.material.as_str(), p.solid.voxel_count()))
+        .collect();
+    assert_eq!(counts, [("red", 8), ("blue", 8), ("green", 2)]);
+    let mesh = labelled_mesh(&union).expect("a mesh");
+    assert!(mesh.report().is_valid_solid());
+    assert_eq!(mesh.report().measures.volume, 18.0);
+    let areas = area_by_material(&mesh);
+    assert_eq!(
+        areas["green"],
+        2.0 + 2.0 * 2.0 + 2.0,
+        "top, sides and back of the bar's overhang"
+    );
+
+    let difference = label(&a.difference(&b).unwrap(), &operands).unwrap();
+    let counts: Vec<(&str, u64)> = (difference.iter())
+        .map(|p| (p.material.as_str(), p.solid.voxel_count()))
+        .collect();
+    assert_eq!(counts, [("red", 7), ("blue", 7)]);
+    let mesh = labelled_mesh(&difference).expect("a mesh");
+    assert!(mesh.report().is_valid_solid());
+    let areas = area_by_material(&mesh);
+    assert_eq!(areas.keys().collect::<Vec<_>>(), ["blue", "red"]);
+    // The 4 × 2 × 2 box's 40, less the two unit-wide strips the notch takes from its top and
+    // back, plus the notch's four inner faces.
+    assert_eq!(areas["red"] + areas["blue"], 40.0 - 4.0 + 6.0);
+}

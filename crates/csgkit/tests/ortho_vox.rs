@@ -65,3 +65,57 @@ fn every_shared_vox_model_gives_a_closed_mesh_of_the_right_volume() {
         }
     }
 }
+
+/// A voxel model's palette survives the discrete engine: T-Rex as one solid per colour
+/// (`csgkit boxes --per-material`), discretised on its own unit grid and united with a bar
+/// through it, keeps every colour of the model with its voxel count, and the bar adds voxels
+/// of its own material only outside the model.
+#[test]
+fn a_vox_palette_survives_a_discrete_union() {
+    use csgkit::discrete::{BoolOp, DiscretizeOptions, Grid, Solid, discretize_parts, label};
+    let Some(data) = shared_data() else { return };
+    let read = read_vox(
+        &std::fs::read(data.join("voxels/T-Rex.vox")).unwrap(),
+        VoxOptions::default(),
+    )
+    .unwrap();
+    let materials: Vec<u32> = read.colors.iter().map(|&c| u32::from(c)).collect();
+    let solids = csgkit::ortho::box_union_per_material(&read.boxes, &materials).unwrap();
+    let model = csgkit::ortho::per_material_mesh(&solids, MeshOptions::default())
+        .unwrap()
+        .mesh;
+    let bar = csgkit::csg::primitives::cuboid([10.0, 10.0, 10.0], [14.0, 14.0, 30.0]);
+    let (grid, _) = Grid::for_cells(&[1.0]).unwrap();
+    let options = DiscretizeOptions::default();
+    let operands = [
+        discretize_parts(&model, grid, 0, options).unwrap(),
+        discretize_parts(&bar, grid, 0, options).unwrap(),
+    ];
+    assert_eq!(operands[0].len(), solids.len(), "one part per colour");
+    let whole = |parts: &[csgkit::discrete::MaterialSolid]| {
+        let solids: Vec<Solid> = parts.iter().map(|p| p.solid.clone()).collect();
+        Solid::op_all(&solids, BoolOp::Union).unwrap().unwrap()
+    };
+    let (a, b) = (whole(&operands[0]), whole(&operands[1]));
+    let union = label(&a.union(&b).unwrap(), &operands).unwrap();
+    for (part, (m, brep)) in union.iter().zip(&solids) {
+        assert_eq!(part.material, format!("material_{m}"));
+        let voxels: f64 = brep
+            .to_mesh(MeshOptions::default())
+            .unwrap()
+            .mesh
+            .report()
+            .measures
+            .volume;
+        assert_eq!(part.solid.voxel_count() as f64, voxels, "{}", part.material);
+    }
+    let added = union.last().expect("the bar's part");
+    assert_eq!(added.material, "default");
+    assert_eq!(
+        added.solid.voxel_count(),
+        b.difference(&a).unwrap().voxel_count()
+    );
+    let mesh = csgkit::discrete::labelled_mesh(&union).unwrap();
+    assert!(mesh.report().is_valid_solid());
+    assert_eq!(mesh.materials().len(), solids.len() + 1);
+}

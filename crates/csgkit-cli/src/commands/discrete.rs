@@ -10,7 +10,10 @@
 //!
 //! Output: `.txt` writes the disjoint boxes (`x0 y0 z0 x1 y1 z1` per line, the input format of
 //! `csgkit boxes`); any mesh format writes a closed mesh without T-junctions: by default the
-//! orthogonal engine's maximal faces, or with `--mesh surfels` the paper's unit surfels. `--stats` prints one
+//! orthogonal engine's maximal faces, or with `--mesh surfels` the paper's unit surfels.
+//! Operands with materials keep them: each face of the result takes the material of the
+//! operand behind it ([`csgkit::discrete::label`]); a mesh whose faces of each material are
+//! closed (a voxel model through `csgkit boxes --per-material`) keeps all of them. `--stats` prints one
 //! JSON object on stdout with counts and seconds per stage; `op_seconds` covers
 //! discretisation, the booleans and the output conversion, without file I/O.
 
@@ -24,7 +27,8 @@ use anyhow::{Context, bail};
 use csgkit::Mesh;
 use csgkit::csg::primitives::{cuboid, torus};
 use csgkit::discrete::{
-    BoolOp, DiscretizeOptions, FillRule, Grid, Rounding, Solid, discretize_with_progress,
+    BoolOp, DiscretizeOptions, FillRule, Grid, MaterialSolid, Rounding, Solid, discretize_parts,
+    discretize_with_progress, labelled_mesh,
 };
 use serde_json::json;
 
@@ -200,20 +204,38 @@ fn run_op(
         },
     };
     let t_op = Instant::now();
+    // With materials, each operand is one solid per material, and the result's faces take
+    // the material of the operand behind them (discrete::label).
+    let with_materials = meshes.iter().any(|m| m.face_materials().is_some());
     let mut solids = Vec::with_capacity(meshes.len());
+    let mut parts = Vec::with_capacity(meshes.len());
     for (n, mesh) in meshes.iter().enumerate() {
         let label = parsed[n].0.display().to_string();
-        let bar = Progress::new(&label, common.no_progress);
-        let solid = discretize_with_progress(mesh, grid, levels[n], options, &|f| bar.report(f))
-            .with_context(|| format!("cannot discretise {label}"))?;
-        bar.finish();
+        let solid = if with_materials {
+            let own = discretize_parts(mesh, grid, levels[n], options)
+                .with_context(|| format!("cannot discretise {label}"))?;
+            let whole: Vec<Solid> = own.iter().map(|p| p.solid.clone()).collect();
+            let solid = Solid::op_all(&whole, BoolOp::Union)?.expect("a mesh has a part");
+            parts.push(own);
+            solid
+        } else {
+            let bar = Progress::new(&label, common.no_progress);
+            let solid =
+                discretize_with_progress(mesh, grid, levels[n], options, &|f| bar.report(f))
+                    .with_context(|| format!("cannot discretise {label}"))?;
+            bar.finish();
+            solid
+        };
         solids.push(solid);
     }
     let discretize_seconds = t_op.elapsed().as_secs_f64();
     let t_bool = Instant::now();
     let result = Solid::op_all(&solids, op)?.expect("at least one operand");
+    let labelled = with_materials
+        .then(|| csgkit::discrete::label(&result, &parts))
+        .transpose()?;
     let boolean_seconds = t_bool.elapsed().as_secs_f64();
-    let report = write_result(&result, &common.output, common.mesh)?;
+    let report = write_result(&result, labelled.as_deref(), &common.output, common.mesh)?;
     if common.stats {
         let inputs: Vec<_> = parsed
             .iter()
@@ -257,8 +279,14 @@ struct Written {
     write_seconds: f64,
 }
 
-/// Writes boxes (`.txt`) or a mesh built as `mode` says to `path`.
-fn write_result(solid: &Solid, path: &Path, mode: MeshMode) -> anyhow::Result<Written> {
+/// Writes boxes (`.txt`) or a mesh built as `mode` says to `path`; the orthogonal engine's
+/// mesh takes its face materials from `parts` where given.
+fn write_result(
+    solid: &Solid,
+    parts: Option<&[MaterialSolid]>,
+    path: &Path,
+    mode: MeshMode,
+) -> anyhow::Result<Written> {
     let t = Instant::now();
     let is_boxes = path
         .extension()
@@ -281,9 +309,12 @@ fn write_result(solid: &Solid, path: &Path, mode: MeshMode) -> anyhow::Result<Wr
             write_seconds: t.elapsed().as_secs_f64(),
         });
     }
-    let mesh = match mode {
-        MeshMode::Ortho => solid.to_mesh().context("orthogonal engine failed")?,
-        MeshMode::Surfels => solid.to_surfel_mesh().context("surfel mesh too large")?,
+    let mesh = match (mode, parts) {
+        (MeshMode::Ortho, Some(parts)) => {
+            labelled_mesh(parts).context("orthogonal engine failed")?
+        }
+        (MeshMode::Ortho, None) => solid.to_mesh().context("orthogonal engine failed")?,
+        (MeshMode::Surfels, _) => solid.to_surfel_mesh().context("surfel mesh too large")?,
     };
     let convert_seconds = t.elapsed().as_secs_f64();
     let t = Instant::now();
@@ -362,7 +393,7 @@ impl Progress {
 fn run_demo(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     let result = showcase()?;
     if let Some(path) = &args.output {
-        let written = write_result(&result, path, MeshMode::Ortho)?;
+        let written = write_result(&result, None, path, MeshMode::Ortho)?;
         println!("  wrote {} ({})", path.display(), written.json);
     }
     Ok(ExitCode::SUCCESS)

@@ -16,6 +16,9 @@
 //! 4. [`Solid::to_boxes`] (`to_boxes.rs`): disjoint axis-aligned boxes, the orthogonal
 //!    engine's input for a closed mesh; [`Solid::to_surfel_mesh`] (`surfels.rs`): the
 //!    paper's top/bottom/lateral surfel reconstruction as a closed unit-quad mesh.
+//! 5. Materials (`materials.rs`): one solid per material in ([`discretize_parts`]), the
+//!    result's voxels labelled by the first operand part containing them ([`label`]), and
+//!    the mesh with the material of the solid behind each face ([`labelled_mesh`]).
 //!
 //! # Invariants
 //! - Everything is an integer after step 1, so booleans are exact and chain without drift.
@@ -26,6 +29,7 @@ mod brick;
 mod column;
 mod discretize;
 mod grid;
+mod materials;
 mod ops;
 mod surfels;
 mod tile;
@@ -37,5 +41,6 @@ pub use discretize::{
     DiscretizeError, DiscretizeOptions, FillRule, Rounding, discretize, discretize_with_progress,
 };
 pub use grid::{BRICK_LEVEL, Grid, GridError, MAX_INDEX, MAX_LEVEL};
+pub use materials::{MaterialSolid, discretize_parts, label, labelled_mesh, material_parts};
 pub use ops::OpError;
 pub use tile::{Solid, Tile, TileError, TileStats};

@@ -51,7 +51,7 @@ impl Names {
 ///
 /// Name tables are merged by name across the sources, so "green" in one operand and "green"
 /// in another are one material; a source without materials (or groups) gives its faces
-/// [`DEFAULT_NAME`], one without colours gives [`WHITE`], while any source has them. Material
+/// `"default"`, one without colours gives white, while any source has them. Material
 /// libraries are kept, each once. A mesh without provenance, or a provenance naming a face no
 /// source has, comes back unchanged.
 pub fn inherit_attributes(mesh: Mesh, sources: &[&Mesh]) -> Mesh {
