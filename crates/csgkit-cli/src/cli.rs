@@ -51,6 +51,11 @@ enum Command {
     Boxes(boxes::BoxesArgs),
     /// Runs the engine on built-in data and writes its outputs.
     Demo(demo::DemoArgs),
+    /// A CSG tree of solids, evaluated exactly in one pass: a JSON scene of unions,
+    /// intersections and differences over meshes, boxes and primitives, with transforms and
+    /// materials.
+    #[command(after_help = CSG_HELP)]
+    Csg(commands::csg::CsgArgs),
     /// Booleans and voxelisation with the multi-scale depth-list engine.
     #[command(
         after_help = "Examples:\n  csgkit discrete voxelize bunny.obj -o bunny_vox.obj --cell 0.01 --stats\n  \
@@ -59,6 +64,28 @@ enum Command {
     )]
     Discrete(commands::discrete::DiscreteArgs),
 }
+
+/// The scene format, for `csgkit help csg`.
+const CSG_HELP: &str = "\
+A node is an object with exactly one of these keys, and optionally \"transform\" and \"material\":
+  {\"union\" | \"intersection\" | \"difference\": [node, ...]}   (difference: the first minus the others)
+  {\"mesh\": \"part.stl\"}                                      any format csgkit reads
+  {\"cube\": {\"size\": [x, y, z] | s, \"center\": bool}}
+  {\"sphere\": {\"r\": R, \"segments\": N}}                       OpenSCAD's tessellation
+  {\"cylinder\": {\"r\": R, \"h\": H, \"segments\": N, \"center\": bool}}
+  {\"boxes\": \"model.vox\" | \"boxes.txt\"}                       through the orthogonal engine
+\"transform\": [[m00, m01, m02, t0], [m10, m11, m12, t1], [m20, m21, m22, t2]]   (x' = M x + t)
+\"material\": \"name\"   the material of every face below that names none closer
+Relative paths are relative to the scene file; errors name the JSON path of the bad node.
+
+Example scene (a block drilled through, the block in stone):
+  {\"difference\": [
+    {\"cube\": {\"size\": 2, \"center\": true}, \"material\": \"stone\"},
+    {\"cylinder\": {\"r\": 0.5, \"h\": 3, \"segments\": 32, \"center\": true},
+     \"transform\": [[1, 0, 0, 0.2], [0, 1, 0, 0], [0, 0, 1, 0]]}]}
+
+Example:
+  csgkit csg drilled.json -o drilled.obj --stats";
 
 /// Parses the command line and runs the chosen subcommand.
 pub fn run() -> anyhow::Result<ExitCode> {
@@ -76,6 +103,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Repair(args) => commands::repair::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Boxes(args) => boxes::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Demo(args) => demo::run(&args).map(|()| ExitCode::SUCCESS),
+        Command::Csg(args) => commands::csg::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Discrete(args) => commands::discrete::run(&args),
     }
 }

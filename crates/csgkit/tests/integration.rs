@@ -2,6 +2,9 @@
 
 mod util;
 
+// CSG trees in one exact pass: JSON scenes and random trees against chains of binary
+// booleans, touching and coplanar leaves.
+mod csg_trees;
 // The discrete engine against brute-force voxel oracles.
 mod discrete_cases;
 // The exact engine: the degenerate suite of design/exact.md with exact volumes.

@@ -214,7 +214,7 @@ fn op_name(op: Operation) -> &'static str {
 /// The snake_case name of a stage ("ingest", "validate", …), for the bars and the `stages`
 /// object of `--stats`. It is derived from the variant's name, so a stage the library adds
 /// later ([`Stage`] is non-exhaustive) gets its own name without a change here.
-fn stage_name(stage: Stage) -> String {
+pub fn stage_name(stage: Stage) -> String {
     let mut name = String::new();
     for (i, c) in format!("{stage:?}").char_indices() {
         if c.is_ascii_uppercase() && i > 0 {
@@ -223,6 +223,21 @@ fn stage_name(stage: Stage) -> String {
         name.push(c.to_ascii_lowercase());
     }
     name
+}
+
+/// The `stages` object of `--stats`: seconds per stage, by snake_case name.
+pub fn stages_json(stats: &BooleanStats) -> serde_json::Map<String, serde_json::Value> {
+    (stats.stage_seconds.iter())
+        .map(|&(stage, secs)| (stage_name(stage), secs.into()))
+        .collect()
+}
+
+/// The seconds of the self-intersection check, which `op_seconds` leaves out.
+pub fn validate_seconds(stats: &BooleanStats) -> f64 {
+    (stats.stage_seconds.iter())
+        .filter(|(stage, _)| *stage == Stage::Validate)
+        .map(|(_, secs)| secs)
+        .sum()
 }
 
 /// The seconds spent reading the operands and writing the result.
@@ -245,13 +260,8 @@ fn stats_json(
     let inputs: Vec<_> = (args.inputs.iter().zip(meshes))
         .map(|(path, mesh)| input_json(path, mesh))
         .collect();
-    let stages: serde_json::Map<String, serde_json::Value> = (s.stage_seconds.iter())
-        .map(|&(stage, secs)| (stage_name(stage), secs.into()))
-        .collect();
-    let validate_seconds: f64 = (s.stage_seconds.iter())
-        .filter(|(stage, _)| *stage == Stage::Validate)
-        .map(|(_, secs)| secs)
-        .sum();
+    let stages = stages_json(s);
+    let validate_seconds = validate_seconds(s);
     json!({
         "command": op_name(op),
         "inputs": inputs,

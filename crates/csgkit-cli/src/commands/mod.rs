@@ -3,6 +3,7 @@
 
 pub mod boxes;
 pub mod check;
+pub mod csg;
 pub mod demo;
 pub mod discrete;
 pub mod exact;

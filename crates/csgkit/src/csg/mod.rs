@@ -1,9 +1,14 @@
-//! Constructive solid geometry: solids built in code, and later expression trees over them.
+//! Constructive solid geometry: the layer above the engines.
 //!
-//! DESIGN.md plans this module as the layer above the engines: expression trees of operands,
-//! transforms and operations, a scene file, their evaluation, and primitives.
-//! Only [`primitives`] exists so far: closed, outward-oriented meshes of simple solids (cuboid,
-//! icosphere, torus, cylinder) that the demo, the tests and the benches build instead of each
-//! keeping its own copy.
+//! - [`primitives`]: closed, outward-oriented meshes of simple solids (cuboid, icosphere,
+//!   OpenSCAD's UV sphere, torus, cylinder), the one definition the demo, the tests, the
+//!   benches and scenes share.
+//! - [`tree`]: CSG trees of meshes with transforms and materials, evaluated by the exact
+//!   engine in one arrangement of all leaves.
+//! - [`scene`]: the JSON scene format, read into a tree.
 
 pub mod primitives;
+pub mod scene;
+pub mod tree;
+
+pub use tree::{Affine, CsgError, Evaluation, IDENTITY, Node, NodeKind, evaluate};

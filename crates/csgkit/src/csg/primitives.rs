@@ -219,12 +219,74 @@ pub fn cylinder(base: [f64; 3], radius: f64, height: f64, segments: u32) -> Mesh
     Mesh::from_triangles(positions, &triangles).expect("cylinder indices are below 2n + 2")
 }
 
+/// The sphere of `radius` about `centre` as OpenSCAD tessellates it with `fragments` points
+/// per ring: `(fragments + 1) / 2` rings at polar angles `180° · (i + ½) / rings`, each with
+/// `fragments` points from azimuth 0 counter-clockwise seen from +z; quads between rings and
+/// one polygon cap at each end (outward).
+///
+/// # Panics
+/// If `fragments` is below 3.
+pub fn uv_sphere(centre: [f64; 3], radius: f64, fragments: u32) -> Mesh {
+    assert!(fragments >= 3, "a sphere needs at least 3 fragments");
+    let rings = fragments.div_ceil(2).max(2);
+    let n = fragments;
+    let mut positions = Vec::with_capacity((rings * n) as usize);
+    for i in 0..rings {
+        let polar = std::f64::consts::PI * (f64::from(i) + 0.5) / f64::from(rings);
+        let (ring_radius, z) = (radius * polar.sin(), radius * polar.cos());
+        for j in 0..n {
+            let (s, c) = (std::f64::consts::TAU * f64::from(j) / f64::from(n)).sin_cos();
+            positions.push([
+                centre[0] + ring_radius * c,
+                centre[1] + ring_radius * s,
+                centre[2] + z,
+            ]);
+        }
+    }
+    let at = |i: u32, j: u32| i * n + j % n;
+    let mut corners: Vec<u32> = Vec::new();
+    let mut starts = vec![0u32];
+    let mut face = |corners: &mut Vec<u32>, f: &[u32]| {
+        corners.extend_from_slice(f);
+        starts.push(corners.len() as u32);
+    };
+    face(&mut corners, &(0..n).map(|j| at(0, j)).collect::<Vec<_>>());
+    for i in 0..rings - 1 {
+        for j in 0..n {
+            face(
+                &mut corners,
+                &[at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)],
+            );
+        }
+    }
+    face(
+        &mut corners,
+        &(0..n).rev().map(|j| at(rings - 1, j)).collect::<Vec<_>>(),
+    );
+    Mesh::from_parts(crate::mesh::MeshParts {
+        positions,
+        corners,
+        face_starts: Some(starts),
+        ..Default::default()
+    })
+    .expect("sphere corners index its rings")
+}
+
 #[cfg(test)]
 mod tests {
     use std::f64::consts::PI;
 
     use super::*;
     use crate::mesh::{MeshReport, analyze};
+
+    #[test]
+    fn a_uv_sphere_is_a_closed_solid_inside_its_ball() {
+        let sphere = uv_sphere([1.0, 2.0, 3.0], 2.0, 30);
+        let report = solid(&sphere, 0);
+        assert_eq!(sphere.face_count(), 2 + 14 * 30);
+        let volume = report.measures.volume;
+        assert!(volume < 4.0 / 3.0 * PI * 8.0 && volume > 0.95 * 4.0 / 3.0 * PI * 8.0);
+    }
 
     /// Analyses `mesh` and asserts it is a closed, oriented, edge-manifold solid of `genus`
     /// with no repeated position.

@@ -40,6 +40,50 @@ impl Operation {
     }
 }
 
+/// Which points a boolean keeps, as a formula over which operands contain them: one
+/// [`Operation`] on all operands, or a tree of operations (a CSG tree) whose leaves are the
+/// operands. The select stage evaluates it on the inside flags of every patch, so a whole
+/// tree is computed in one arrangement and rounded once.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Expression {
+    /// The points of operand `k`.
+    Operand(usize),
+    /// The operation on the children's point sets (a difference: the first minus the others).
+    Apply(Operation, Vec<Expression>),
+}
+
+impl Expression {
+    /// `op` on operands `0..count`.
+    pub fn of(op: Operation, count: usize) -> Expression {
+        Expression::Apply(op, (0..count).map(Expression::Operand).collect())
+    }
+
+    /// Whether a point with the given inside flags (one per operand) is in the result.
+    ///
+    /// # Panics
+    /// If an operand index is out of range of `inside`.
+    pub fn contains(&self, inside: &[bool]) -> bool {
+        match self {
+            Expression::Operand(k) => inside[*k],
+            Expression::Apply(op, children) => {
+                op.contains(children.iter().map(|c| c.contains(inside)))
+            }
+        }
+    }
+
+    /// The highest operand index plus one (0 for an expression without operands).
+    pub fn operand_count(&self) -> usize {
+        match self {
+            Expression::Operand(k) => k + 1,
+            Expression::Apply(_, children) => children
+                .iter()
+                .map(Expression::operand_count)
+                .max()
+                .unwrap_or(0),
+        }
+    }
+}
+
 /// A stage of the pipeline, as reported to a [`ProgressFn`] and in [`BooleanStats`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
@@ -299,12 +343,47 @@ pub fn boolean(
     operands: &[&Mesh],
     options: &BooleanOptions,
 ) -> Result<Boolean, BooleanError> {
+    boolean_expression(&Expression::of(op, operands.len()), operands, options)
+}
+
+/// Computes `expression` over `operands` (operand `k` is `Expression::Operand(k)`) in one
+/// exact arrangement of all of them, rounded once: a CSG tree without a chain of binary
+/// booleans. Otherwise as [`boolean`].
+///
+/// # Example
+/// (A ∪ B) − C for three unit cubes in a row, C overlapping B by half.
+/// ```
+/// use csgkit::csg::primitives::cuboid;
+/// use csgkit::exact::{BooleanOptions, Expression, Operation, boolean_expression};
+/// let cubes: Vec<_> = [0.0, 1.0, 1.5].iter().map(|&x| cuboid([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0])).collect();
+/// let union = Expression::Apply(Operation::Union, vec![Expression::Operand(0), Expression::Operand(1)]);
+/// let tree = Expression::Apply(Operation::Difference, vec![union, Expression::Operand(2)]);
+/// let operands: Vec<_> = cubes.iter().collect();
+/// let result = boolean_expression(&tree, &operands, &BooleanOptions::default()).unwrap();
+/// assert_eq!(result.mesh.report().measures.volume, 1.5);
+/// ```
+///
+/// # Errors
+/// As [`boolean`]; [`BooleanError::Unsupported`] if `expression` names an operand that is
+/// not given.
+pub fn boolean_expression(
+    expression: &Expression,
+    operands: &[&Mesh],
+    options: &BooleanOptions,
+) -> Result<Boolean, BooleanError> {
     if operands.is_empty() {
         return Err(BooleanError::NoOperands);
     }
+    if expression.operand_count() > operands.len() {
+        return Err(BooleanError::Unsupported(format!(
+            "the expression names operand {} of {}",
+            expression.operand_count() - 1,
+            operands.len()
+        )));
+    }
     let mut stats = BooleanStats::default();
     let mut clock = StageClock::new(options.progress);
-    let mut rounded = exact_result(op, operands, options, None, &mut stats, &mut clock)?;
+    let mut rounded = exact_result(expression, operands, options, None, &mut stats, &mut clock)?;
     if let Some(delta) = options.simplify {
         let removed;
         (rounded, removed) = simplify::simplify(rounded, operands, delta);
@@ -322,7 +401,7 @@ pub fn boolean(
     let (mesh, certificate) = certify::certify(rounded, |soup, suspects| {
         let mut inner = BooleanStats::default();
         exact_result(
-            Operation::Union,
+            &Expression::of(Operation::Union, 1),
             &[soup],
             &refine_options,
             Some(suspects),
@@ -353,7 +432,7 @@ pub fn boolean(
 /// triangles with a vertex at one of those positions (the rest is known to be free of
 /// crossings), and no vertex is removed (certification snaps every new vertex).
 fn exact_result(
-    op: Operation,
+    expression: &Expression,
     operands: &[&Mesh],
     options: &BooleanOptions,
     suspects: Option<&[Point3]>,
@@ -394,24 +473,39 @@ fn exact_result(
     stats.split_triangles = arrangement.split_triangles;
     clock.finish(Stage::Split, stats)?;
 
-    let kept = if general {
-        let (patch_of, patch_count) = classify::patch_partition(&input, &arrangement);
-        stats.patches = patch_count;
-        let kept = winding::select(
-            op,
-            options.winding,
-            &input,
-            &arrangement,
-            &patch_of,
-            patch_count,
-        )?;
-        clock.finish(Stage::Classify, stats)?;
-        kept
+    // Local classification labels every patch that touches a classified one; where a whole
+    // operand's surface lies on others' (a cube among touching cubes on every side), it
+    // cannot start, and winding numbers, which classify any patch, decide instead.
+    let labels = if general {
+        None
     } else {
-        let labels = classify::classify(&input, &arrangement)?;
-        stats.patches = labels.patch_count();
-        clock.finish(Stage::Classify, stats)?;
-        select::select(op, &input, &arrangement, &labels)
+        match classify::classify(&input, &arrangement) {
+            Ok(labels) => Some(labels),
+            Err(BooleanError::Unsupported(_)) => None,
+            Err(error) => return Err(error),
+        }
+    };
+    let kept = match labels {
+        Some(labels) => {
+            stats.patches = labels.patch_count();
+            clock.finish(Stage::Classify, stats)?;
+            select::select(expression, &input, &arrangement, &labels)
+        }
+        None => {
+            let (patch_of, patch_count) = classify::patch_partition(&input, &arrangement);
+            stats.patches = patch_count;
+            stats.winding_classification = true;
+            let kept = winding::select(
+                expression,
+                options.winding,
+                &input,
+                &arrangement,
+                &patch_of,
+                patch_count,
+            )?;
+            clock.finish(Stage::Classify, stats)?;
+            kept
+        }
     };
     let faces = reconstruct::reconstruct(
         &input,

@@ -17,7 +17,9 @@
 //!    the intersection points and segments that lie on it (`subdivide` runs both stages over
 //!    all pairs and triangles).
 //! 5. **classify** — inside / outside / on of every patch against the other operands.
-//! 6. **select** — keep patches by the operation's table, written on winding numbers.
+//! 6. **select** — keep patches by the operation's table, written on winding numbers: the
+//!    [`Expression`] (one operation on all operands, or a CSG tree over them) evaluated on
+//!    the inside flags of each patch.
 //!
 //!    Operands that are not simple solids (faces that cross each other, nested or
 //!    overlapping shells) take another path through stages 2–6: their self-intersecting
@@ -56,7 +58,8 @@ mod subdivide;
 mod winding;
 
 pub use boolean::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, ProgressFn, Stage, boolean,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, Operation, ProgressFn, Stage,
+    boolean, boolean_expression,
 };
 pub use intersect::{
     Contact, Feature, Intersection, PointKey, Triangle, TriangleEdge, intersect_triangles,

@@ -33,7 +33,9 @@
 //!
 //! Of the two neighbours, the collapse keeps the fan whose worst triangle is fattest (an f64
 //! shape measure: a choice, not a decision), so needles are avoided where there is a choice.
-//! Input vertices are never removed, so a face that nothing cut keeps its corners.
+//! Input vertices are removed only with coplanar merging, where faces from different sources
+//! join (27 touching cubes become one cube of 8 corners); otherwise a face that nothing cut
+//! keeps its corners.
 //!
 //! # Complexity
 //! Only sub-triangles of split input triangles hold intersection points, so removal looks at
@@ -97,7 +99,13 @@ pub(crate) fn reconstruct(
     if options.merge_coplanar {
         faces.join_coplanar(input, operands, &triangles, &source);
     }
-    let mut fans = Fans::new(input, arr, kept, &triangles, &source, &mut faces);
+    // Joining faces across sources can leave input vertices that no face needs.
+    let first = if options.merge_coplanar {
+        0
+    } else {
+        input.positions.len() as u32
+    };
+    let mut fans = Fans::new(input, arr, kept, &triangles, &source, &mut faces, first);
     let removed_vertices = if options.remove_vertices {
         fans.remove_unneeded(input, arr)
     } else {
@@ -311,13 +319,18 @@ struct Fans {
     /// Per triangle: its index among the kept sub-triangles, or `None` for a triangle the
     /// removal made.
     origin: Vec<Option<u32>>,
-    /// Per intersection point (vertex id minus the input vertex count): the triangles that
-    /// use it, dead ones included.
+    /// The lowest vertex id that may be removed: the first intersection point, or 0 when
+    /// faces are merged across sources (coplanar merging), where input vertices inside a
+    /// merged face or on a straight stretch of its boundary are not needed either.
+    first: u32,
+    /// Per removable vertex (vertex id minus `first`): the triangles that use it, dead ones
+    /// included.
     incident: Vec<Vec<u32>>,
 }
 
 impl Fans {
-    /// The kept sub-triangles of split input triangles (only those hold intersection points).
+    /// The kept sub-triangles that use a vertex from `first` on (with intersection points
+    /// only, those of split input triangles).
     fn new(
         input: &Input,
         arr: &Arrangement,
@@ -325,8 +338,8 @@ impl Fans {
         triangles: &[[u32; 3]],
         source: &[u32],
         faces: &mut FaceGroups,
+        first: u32,
     ) -> Self {
-        let explicit = input.positions.len() as u32;
         let mut fans = Fans {
             triangles: Vec::new(),
             source: Vec::new(),
@@ -334,29 +347,22 @@ impl Fans {
             group: Vec::new(),
             alive: Vec::new(),
             origin: Vec::new(),
-            incident: vec![Vec::new(); arr.points.len()],
+            first,
+            incident: vec![Vec::new(); arr.vertex_count(input) - first as usize],
         };
-        let around_points: Vec<usize> = (0..triangles.len())
+        let around: Vec<usize> = (0..triangles.len())
             .into_par_iter()
-            .filter(|&k| triangles[k].iter().any(|&v| v >= explicit))
+            .filter(|&k| triangles[k].iter().any(|&v| v >= first))
             .collect();
-        for k in around_points {
+        for k in around {
             let t = triangles[k];
             let group = faces.group(input, source[k]);
-            fans.push(t, source[k], kept[k].1, group, Some(k as u32), explicit);
+            fans.push(t, source[k], kept[k].1, group, Some(k as u32));
         }
         fans
     }
 
-    fn push(
-        &mut self,
-        t: [u32; 3],
-        source: u32,
-        reversed: bool,
-        group: u32,
-        origin: Option<u32>,
-        explicit: u32,
-    ) {
+    fn push(&mut self, t: [u32; 3], source: u32, reversed: bool, group: u32, origin: Option<u32>) {
         let l = self.triangles.len() as u32;
         self.triangles.push(t);
         self.source.push(source);
@@ -365,18 +371,18 @@ impl Fans {
         self.alive.push(true);
         self.origin.push(origin);
         for v in t {
-            if let Some(p) = v.checked_sub(explicit) {
+            if let Some(p) = v.checked_sub(self.first) {
                 self.incident[p as usize].push(l);
             }
         }
     }
 
-    /// Removes every intersection point no face needs, in vertex order; returns how many.
+    /// Removes every vertex from `first` on that no face needs, in vertex order; returns how
+    /// many.
     fn remove_unneeded(&mut self, input: &Input, arr: &Arrangement) -> usize {
-        let explicit = input.positions.len() as u32;
         let mut removed = 0;
-        for p in 0..arr.points.len() as u32 {
-            if self.remove(input, arr, explicit + p) {
+        for v in self.first..arr.vertex_count(input) as u32 {
+            if self.remove(input, arr, v) {
                 removed += 1;
             }
         }
@@ -385,8 +391,7 @@ impl Fans {
 
     /// Removes vertex `v` if no face needs it (see the module docs); whether it did.
     fn remove(&mut self, input: &Input, arr: &Arrangement, v: u32) -> bool {
-        let explicit = input.positions.len() as u32;
-        let fan: Vec<u32> = (self.incident[(v - explicit) as usize].iter())
+        let fan: Vec<u32> = (self.incident[(v - self.first) as usize].iter())
             .copied()
             .filter(|&l| self.alive[l as usize])
             .collect();
@@ -424,7 +429,7 @@ impl Fans {
         for (l, t) in new {
             let l = l as usize;
             let (source, reversed, group) = (self.source[l], self.reversed[l], self.group[l]);
-            self.push(t, source, reversed, group, None, explicit);
+            self.push(t, source, reversed, group, None);
         }
         true
     }

@@ -14,7 +14,7 @@
 
 use rayon::prelude::*;
 
-use super::boolean::Operation;
+use super::boolean::Expression;
 use super::classify::{Label, Labels};
 use super::ingest::Input;
 use super::subdivide::Arrangement;
@@ -23,7 +23,12 @@ use super::subdivide::Arrangement;
 pub(crate) type Kept = Vec<(u32, bool)>;
 
 /// The sub-triangles of the result, in sub-triangle order.
-pub(crate) fn select(op: Operation, input: &Input, arr: &Arrangement, labels: &Labels) -> Kept {
+pub(crate) fn select(
+    expression: &Expression,
+    input: &Input,
+    arr: &Arrangement,
+    labels: &Labels,
+) -> Kept {
     let operand_count = input.operand_count();
     // The decision depends only on the patch: make it once per patch.
     let patch_operand: Vec<u32> = {
@@ -34,7 +39,7 @@ pub(crate) fn select(op: Operation, input: &Input, arr: &Arrangement, labels: &L
         operand
     };
     let decisions: Vec<Option<bool>> = (labels.labels.iter().zip(&patch_operand))
-        .map(|(l, &j)| decide(op, operand_count, j, l))
+        .map(|(l, &j)| decide(expression, operand_count, j, l))
         .collect();
     (0..arr.triangles.len() as u32)
         .into_par_iter()
@@ -43,45 +48,42 @@ pub(crate) fn select(op: Operation, input: &Input, arr: &Arrangement, labels: &L
 }
 
 /// `Some(reverse)` when a face of operand `own` with these labels bounds the result.
-fn decide(op: Operation, operand_count: usize, own: u32, labels: &[(u32, Label)]) -> Option<bool> {
+fn decide(
+    expression: &Expression,
+    operand_count: usize,
+    own: u32,
+    labels: &[(u32, Label)],
+) -> Option<bool> {
     let coincides_with_lower = labels
         .iter()
         .any(|&(k, l)| k < own && matches!(l, Label::OnSame | Label::OnOpposite));
     if coincides_with_lower {
         return None;
     }
-    let front = contains(op, operand_count, own, false, labels);
-    let back = contains(op, operand_count, own, true, labels);
+    let front = contains(expression, operand_count, own, false, labels);
+    let back = contains(expression, operand_count, own, true, labels);
     (front != back).then_some(front)
 }
 
 /// Whether the result contains the points just behind (`behind`) or in front of a face of
 /// operand `own` with `labels`; operands not in `labels` are outside there.
 fn contains(
-    op: Operation,
+    expression: &Expression,
     operand_count: usize,
     own: u32,
     behind: bool,
     labels: &[(u32, Label)],
 ) -> bool {
-    let inside = |label: Label| match label {
-        Label::Inside => true,
-        Label::OnSame => behind,
-        Label::OnOpposite => !behind,
-    };
-    let inside_count = usize::from(behind) + labels.iter().filter(|(_, l)| inside(*l)).count();
-    match op {
-        Operation::Union => inside_count > 0,
-        Operation::Intersection => inside_count == operand_count,
-        Operation::Difference => {
-            let first_inside = if own == 0 {
-                behind
-            } else {
-                labels.iter().any(|&(k, l)| k == 0 && inside(l))
-            };
-            first_inside && inside_count == 1
-        }
+    let mut inside: smallvec::SmallVec<[bool; 8]> = smallvec::smallvec![false; operand_count];
+    inside[own as usize] = behind;
+    for &(k, label) in labels {
+        inside[k as usize] = match label {
+            Label::Inside => true,
+            Label::OnSame => behind,
+            Label::OnOpposite => !behind,
+        };
     }
+    expression.contains(&inside)
 }
 
 #[cfg(test)]
@@ -90,8 +92,8 @@ mod tests {
 
     #[test]
     fn the_paper_table_for_two_operands() {
+        use super::super::boolean::Operation::*;
         use Label::*;
-        use Operation::*;
         // (op, own, label of the other, expected)
         let cases = [
             (Union, 0, None, Some(false)),
@@ -115,7 +117,7 @@ mod tests {
             let other = 1 - own;
             let labels: Vec<(u32, Label)> = label.map(|l| (other, l)).into_iter().collect();
             assert_eq!(
-                decide(op, 2, own, &labels),
+                decide(&Expression::of(op, 2), 2, own, &labels),
                 expected,
                 "{op:?} {own} {label:?}"
             );

@@ -49,7 +49,7 @@ use crate::kernel::{
 };
 use crate::mesh::union_find::UnionFind;
 
-use super::boolean::{BooleanError, Operation};
+use super::boolean::{BooleanError, Expression};
 use super::ingest::{Input, NO_NEIGHBOUR};
 use super::intersect::Triangle;
 use super::select::Kept;
@@ -259,13 +259,14 @@ pub(crate) fn sample_point(
     Some(SamplePoint { source, c, p })
 }
 
-/// The kept sub-triangles of `op` under `rule`, decided by the winding numbers at every patch.
+/// The kept sub-triangles of `expression` under `rule`, decided by the winding numbers at every
+/// patch.
 ///
 /// # Errors
 /// [`BooleanError::Unsupported`] when a patch has no sub-triangle wide enough to hold an f64
 /// sample point strictly inside.
 pub(crate) fn select(
-    op: Operation,
+    expression: &Expression,
     rule: WindingRule,
     input: &Input,
     arr: &Arrangement,
@@ -313,7 +314,16 @@ pub(crate) fn select(
             };
             let patch = patch as u32;
             let at = PatchAt { patch, source, c };
-            decide(op, rule, operand_count, input, arr, patch_of, &at, found)
+            decide(
+                expression,
+                rule,
+                operand_count,
+                input,
+                arr,
+                patch_of,
+                &at,
+                found,
+            )
         })
         .collect();
     Ok((0..arr.triangles.len() as u32)
@@ -435,7 +445,7 @@ fn propagate_to_slivers(
 /// the one face kept of its coincident stack.
 #[allow(clippy::too_many_arguments)]
 fn decide(
-    op: Operation,
+    expression: &Expression,
     rule: WindingRule,
     operand_count: usize,
     input: &Input,
@@ -453,7 +463,10 @@ fn decide(
     for &(t, sigma) in &found.coincident {
         back[input.operand[t as usize] as usize] += sigma;
     }
-    let contains = |w: &[i32]| op.contains(w.iter().map(|&w| rule.inside(w)));
+    let contains = |w: &[i32]| {
+        let inside: smallvec::SmallVec<[bool; 8]> = w.iter().map(|&w| rule.inside(w)).collect();
+        expression.contains(&inside)
+    };
     let (in_front, in_back) = (contains(&front), contains(&back));
     if in_front == in_back {
         return None;

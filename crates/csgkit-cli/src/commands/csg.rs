@@ -1,0 +1,115 @@
+//! `csgkit csg SCENE -o OUT`: a CSG tree evaluated in one exact pass.
+//!
+//! The scene is a JSON file ([`csgkit::csg::scene`]); its tree is flattened and evaluated by
+//! the exact engine in one arrangement of all leaves ([`csgkit::csg::evaluate`]), rounded
+//! once. `--stats` prints one JSON object on stdout: `op_seconds` (the evaluation without the
+//! self-intersection check and file I/O), the seconds of every stage, and the leaf and
+//! operation counts.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use clap::Args;
+use csgkit::csg::scene::read_scene;
+use csgkit::csg::{Node, NodeKind, evaluate};
+use csgkit::exact::{BooleanOptions, Stage};
+use csgkit::{Format, WriteError, WriteOptions, write_mesh};
+use serde_json::json;
+
+use super::exact::{FaceArgs, stage_name, stages_json, validate_seconds};
+use crate::progress::StageBar;
+
+/// Below this many leaf faces the evaluation ends before a progress bar would help.
+const PROGRESS_MIN_FACES: usize = 20_000;
+
+/// Arguments of `csgkit csg`.
+#[derive(Args, Debug, Clone)]
+pub struct CsgArgs {
+    /// The scene: a JSON tree of unions, intersections and differences over meshes, boxes
+    /// and primitives, with transforms and materials (see `csgkit help csg`).
+    pub scene: PathBuf,
+    /// The output mesh; its extension chooses the format (obj, ply, off, stl).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Print one JSON object on stdout: counts, seconds per stage, the result's validity,
+    /// volume and area.
+    #[arg(long)]
+    pub stats: bool,
+    /// Which faces to write.
+    #[command(flatten)]
+    pub faces: FaceArgs,
+}
+
+/// Runs `csgkit csg`.
+pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
+    let format = Format::from_extension(&args.output).ok_or_else(|| WriteError::UnknownFormat {
+        path: args.output.clone(),
+    })?;
+    let is_json = (args.scene.extension()).is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if !is_json {
+        bail!(
+            "{}: csgkit reads JSON scenes (.json); OpenSCAD files are not read yet",
+            args.scene.display()
+        );
+    }
+    let clock = Instant::now();
+    let tree = read_scene(&args.scene)?;
+    let read_seconds = clock.elapsed().as_secs_f64();
+    let bar = StageBar::new(leaf_faces(&tree), PROGRESS_MIN_FACES);
+    let show = |stage: Stage, done: usize, total: usize| match &bar {
+        Some(bar) => bar.update(&stage_name(stage), done, total),
+        None => true,
+    };
+    let options = BooleanOptions {
+        faces: args.faces.face_mode(format),
+        merge_coplanar: args.faces.merge_coplanar,
+        simplify: args.faces.simplify,
+        progress: Some(&show),
+        ..BooleanOptions::default()
+    };
+    let evaluation = evaluate(&tree, &options);
+    bar.inspect(StageBar::finish);
+    let evaluation =
+        evaluation.with_context(|| format!("cannot evaluate {}", args.scene.display()))?;
+    let clock = Instant::now();
+    let options = WriteOptions {
+        format: Some(format),
+        ..WriteOptions::default()
+    };
+    let mesh = &evaluation.result.mesh;
+    write_mesh(&args.output, mesh, options)?;
+    let write_seconds = clock.elapsed().as_secs_f64();
+    if args.stats {
+        let s = &evaluation.result.stats;
+        let report = mesh.report();
+        let stats = json!({
+            "command": "csg",
+            "scene": args.scene.display().to_string(),
+            "leaves": evaluation.leaves,
+            "operations": evaluation.operations,
+            "input_triangles": s.input_triangles,
+            "output_triangles": s.output_triangles,
+            "output_faces": s.output_faces,
+            "output_vertices": mesh.vertex_count(),
+            "valid_solid": report.valid_solid,
+            "volume": report.measures.volume,
+            "area": report.measures.area,
+            "stages": stages_json(s),
+            "read_seconds": read_seconds,
+            "validate_seconds": validate_seconds(s),
+            "op_seconds": s.op_seconds(),
+            "write_seconds": write_seconds,
+        });
+        println!("{stats}");
+    }
+    Ok(())
+}
+
+/// The faces of every leaf of `node`.
+fn leaf_faces(node: &Node) -> usize {
+    match &node.kind {
+        NodeKind::Mesh { mesh, .. } => mesh.face_count(),
+        NodeKind::Apply(_, children) => children.iter().map(leaf_faces).sum(),
+    }
+}

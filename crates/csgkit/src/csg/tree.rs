@@ -1,0 +1,293 @@
+//! CSG trees and their evaluation in one exact pass.
+//!
+//! A [`Node`] is a leaf (a mesh with its attributes, named for errors) or an operation on
+//! child nodes; any node may carry an affine transform and a material. [`evaluate`] flattens
+//! the tree: every leaf's vertices are moved once by the product of the transforms above it
+//! (faces reversed where that product mirrors), every leaf takes the material of its nearest
+//! node that names one, and the tree becomes an [`Expression`] over the leaves, which the
+//! exact engine evaluates in one arrangement of all leaves, rounded once
+//! ([`boolean_expression`]): no chain of binary booleans, so no rounding between the
+//! operations of a tree.
+
+use crate::exact::{
+    Boolean, BooleanError, BooleanOptions, Expression, Operation, boolean_expression,
+};
+use crate::mesh::{Mesh, MeshParts};
+
+/// An affine map, row-major: `x' = M·x + t` for rows `[m0, m1, m2, t]`.
+pub type Affine = [[f64; 4]; 3];
+
+/// The identity map.
+pub const IDENTITY: Affine = [
+    [1.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0],
+];
+
+/// A node of a CSG tree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    /// What the node is.
+    pub kind: NodeKind,
+    /// Applied to the node's points (after its children's own transforms).
+    pub transform: Option<Affine>,
+    /// The material of every face below that names none closer to it.
+    pub material: Option<String>,
+}
+
+/// A leaf or an operation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NodeKind {
+    /// A closed mesh; `name` says where it came from (a file, a primitive), for errors.
+    Mesh {
+        /// The mesh.
+        mesh: Box<Mesh>,
+        /// Where it came from.
+        name: String,
+    },
+    /// An operation on the children (a difference: the first minus the others).
+    Apply(Operation, Vec<Node>),
+}
+
+impl Node {
+    /// A leaf without transform or material.
+    pub fn mesh(mesh: Mesh, name: impl Into<String>) -> Node {
+        Node {
+            kind: NodeKind::Mesh {
+                mesh: Box::new(mesh),
+                name: name.into(),
+            },
+            transform: None,
+            material: None,
+        }
+    }
+
+    /// An operation node without transform or material.
+    pub fn apply(op: Operation, children: Vec<Node>) -> Node {
+        Node {
+            kind: NodeKind::Apply(op, children),
+            transform: None,
+            material: None,
+        }
+    }
+}
+
+/// Why a tree could not be evaluated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CsgError {
+    /// A transform has a non-finite entry or is singular.
+    #[error("{leaf}: its transform is singular or not finite")]
+    BadTransform {
+        /// The leaf it applies to.
+        leaf: String,
+    },
+    /// The exact engine refused a leaf, or the operation failed.
+    #[error("{}{error}", leaf.as_ref().map(|l| format!("{l}: ")).unwrap_or_default())]
+    Boolean {
+        /// The leaf the error names, if it names one.
+        leaf: Option<String>,
+        /// The engine's error.
+        error: BooleanError,
+    },
+}
+
+/// A tree's result, with its size.
+#[derive(Clone, Debug)]
+pub struct Evaluation {
+    /// The exact engine's result and statistics.
+    pub result: Boolean,
+    /// Leaves of the tree.
+    pub leaves: usize,
+    /// Operation nodes of the tree.
+    pub operations: usize,
+}
+
+/// Evaluates `root` in one exact pass (see the module docs).
+///
+/// # Errors
+/// [`CsgError::BadTransform`] for a singular or non-finite transform, [`CsgError::Boolean`]
+/// (naming the leaf where the engine names an operand) otherwise.
+pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, CsgError> {
+    let mut flat = Flattened::default();
+    let expression = flat.visit(root, IDENTITY, None)?;
+    if flat.leaves.is_empty() {
+        return Err(CsgError::Boolean {
+            leaf: None,
+            error: BooleanError::NoOperands,
+        });
+    }
+    let operands: Vec<&Mesh> = flat.leaves.iter().collect();
+    let result = boolean_expression(&expression, &operands, options).map_err(|error| {
+        let leaf = operand_of(&error).and_then(|k| flat.names.get(k).cloned());
+        CsgError::Boolean { leaf, error }
+    })?;
+    Ok(Evaluation {
+        result,
+        leaves: flat.leaves.len(),
+        operations: flat.operations,
+    })
+}
+
+/// The operand an engine error names.
+fn operand_of(error: &BooleanError) -> Option<usize> {
+    match error {
+        BooleanError::NonFinite { operand, .. }
+        | BooleanError::InvalidPolygon { operand, .. }
+        | BooleanError::NotClosed { operand, .. }
+        | BooleanError::Inverted { operand, .. } => Some(*operand),
+        _ => None,
+    }
+}
+
+/// The leaves of a tree, transformed and painted, in depth-first order.
+#[derive(Default)]
+struct Flattened {
+    leaves: Vec<Mesh>,
+    names: Vec<String>,
+    operations: usize,
+}
+
+impl Flattened {
+    fn visit(
+        &mut self,
+        node: &Node,
+        outer: Affine,
+        material: Option<&str>,
+    ) -> Result<Expression, CsgError> {
+        let transform = match node.transform {
+            Some(own) => compose(outer, own),
+            None => outer,
+        };
+        let material = node.material.as_deref().or(material);
+        match &node.kind {
+            NodeKind::Mesh { mesh, name } => {
+                let leaf = placed(mesh, transform, material)
+                    .ok_or_else(|| CsgError::BadTransform { leaf: name.clone() })?;
+                self.leaves.push(leaf);
+                self.names.push(name.clone());
+                Ok(Expression::Operand(self.leaves.len() - 1))
+            }
+            NodeKind::Apply(op, children) => {
+                self.operations += 1;
+                let children = (children.iter())
+                    .map(|child| self.visit(child, transform, material))
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok(Expression::Apply(*op, children))
+            }
+        }
+    }
+}
+
+/// `outer ∘ inner`: the map that applies `inner`, then `outer`.
+fn compose(outer: Affine, inner: Affine) -> Affine {
+    let mut out = [[0.0; 4]; 3];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, value) in row.iter_mut().enumerate() {
+            *value = (0..3).map(|k| outer[i][k] * inner[k][j]).sum::<f64>();
+            if j == 3 {
+                *value += outer[i][3];
+            }
+        }
+    }
+    out
+}
+
+/// `mesh` moved by `transform` (faces reversed where it mirrors) and painted `material`;
+/// `None` when the transform is singular or not finite.
+fn placed(mesh: &Mesh, transform: Affine, material: Option<&str>) -> Option<Mesh> {
+    let m = transform;
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if !det.is_finite() || det == 0.0 || !m.as_flattened().iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let mut parts: MeshParts = mesh.clone().into_parts();
+    if transform != IDENTITY {
+        for p in &mut parts.positions {
+            *p = [0, 1, 2].map(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + m[i][3]);
+        }
+    }
+    if det < 0.0 {
+        reverse_faces(&mut parts, mesh);
+    }
+    if let Some(name) = material {
+        parts.face_materials = Some(vec![0; mesh.face_count()]);
+        parts.materials = vec![name.to_owned()];
+    }
+    Some(Mesh::from_parts(parts).expect("the same faces over moved positions"))
+}
+
+/// Reverses every face's corner order (and its corner attributes with it).
+fn reverse_faces(parts: &mut MeshParts, mesh: &Mesh) {
+    for f in 0..mesh.face_count() {
+        let range = mesh.face_range(crate::mesh::FaceId::new(f));
+        parts.corners[range.clone()].reverse();
+        if let Some(uvs) = parts.corner_uvs.as_mut() {
+            uvs[range.clone()].reverse();
+        }
+        if let Some(normals) = parts.corner_normals.as_mut() {
+            normals[range.clone()].reverse();
+            for n in &mut normals[range] {
+                *n = n.map(|x| -x);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::csg::primitives::cuboid;
+
+    fn translate(x: f64) -> Affine {
+        [
+            [1.0, 0.0, 0.0, x],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+        ]
+    }
+
+    #[test]
+    fn transforms_compose_from_the_leaf_up_and_mirrors_keep_solids_outward() {
+        let unit = cuboid([0.0; 3], [1.0; 3]);
+        let mirror = [
+            [-1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+        ];
+        let leaf = Node {
+            transform: Some(translate(2.0)),
+            ..Node::mesh(unit.clone(), "a")
+        };
+        let tree = Node {
+            transform: Some(mirror),
+            ..Node::apply(Operation::Union, vec![leaf, Node::mesh(unit, "b")])
+        };
+        let out = evaluate(&tree, &BooleanOptions::default()).unwrap();
+        let report = out.result.mesh.report();
+        assert!(report.is_valid_solid());
+        assert_eq!(report.measures.volume, 2.0);
+        assert_eq!(report.measures.bbox.expect("a box").min[0], -3.0);
+        assert_eq!((out.leaves, out.operations), (2, 1));
+    }
+
+    #[test]
+    fn a_singular_transform_names_its_leaf() {
+        let flat = [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0],
+        ];
+        let leaf = Node {
+            transform: Some(flat),
+            ..Node::mesh(cuboid([0.0; 3], [1.0; 3]), "the cube")
+        };
+        let err = evaluate(&leaf, &BooleanOptions::default()).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "the cube: its transform is singular or not finite"
+        );
+    }
+}

@@ -1,0 +1,193 @@
+//! CSG trees in one exact pass: JSON scenes against chains of binary booleans, trees whose
+//! leaves touch and coincide, and random trees of moved primitives.
+
+use csgkit::Mesh;
+use csgkit::csg::primitives::{cuboid, icosphere};
+use csgkit::csg::scene::read_scene;
+use csgkit::csg::{Affine, Node, NodeKind, evaluate};
+use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::mesh::FaceMode;
+
+use crate::util::{assert_close, assert_no_self_intersection, rotation};
+
+/// The tree's value computed the long way: every leaf placed alone, then each operation as a
+/// chain of binary booleans, each rounded (transforms only on leaves).
+fn chained(node: &Node) -> Mesh {
+    match &node.kind {
+        NodeKind::Mesh { .. } => {
+            evaluate(node, &BooleanOptions::default())
+                .unwrap()
+                .result
+                .mesh
+        }
+        NodeKind::Apply(op, children) => {
+            let mut values = children.iter().map(chained);
+            let first = values.next().expect("a child");
+            values.fold(first, |acc, next| {
+                boolean(*op, &[&acc, &next], &BooleanOptions::default())
+                    .unwrap()
+                    .mesh
+            })
+        }
+    }
+}
+
+fn one_pass(node: &Node) -> Mesh {
+    let mesh = evaluate(node, &BooleanOptions::default())
+        .unwrap()
+        .result
+        .mesh;
+    assert!(mesh.report().is_valid_solid());
+    assert_no_self_intersection(&mesh, "one pass");
+    mesh
+}
+
+fn volume(mesh: &Mesh) -> f64 {
+    mesh.report().measures.volume
+}
+
+#[test]
+fn a_json_scene_matches_the_chain_of_binary_booleans() {
+    let dir = tempfile::TempDir::new().unwrap();
+    let part = dir.path().join("part.obj");
+    csgkit::write_mesh(
+        &part,
+        &icosphere([0.0; 3], 0.7, 2),
+        csgkit::WriteOptions::default(),
+    )
+    .unwrap();
+    let scene = dir.path().join("scene.json");
+    std::fs::write(
+        &scene,
+        r#"{"difference": [
+            {"union": [
+                {"cube": {"size": [2, 1.5, 1], "center": true}},
+                {"mesh": "part.obj", "transform": [[1, 0, 0, 0.9], [0, 1, 0, 0.1], [0, 0, 1, 0.2]]},
+                {"sphere": {"r": 0.5, "segments": 20}, "transform": [[0.8, -0.6, 0, -0.9], [0.6, 0.8, 0, 0], [0, 0, 1, 0.3]]}
+            ]},
+            {"intersection": [
+                {"cylinder": {"r": 0.35, "h": 4, "segments": 24, "center": true}},
+                {"cube": {"size": 3, "center": true}, "transform": [[1, 0, 0, 0], [0, 0.6, -0.8, 0], [0, 0.8, 0.6, 0.4]]}
+            ]}
+        ]}"#,
+    )
+    .unwrap();
+    let tree = read_scene(&scene).unwrap();
+    let once = one_pass(&tree);
+    let chain = chained(&tree);
+    assert!(volume(&once) > 1.0);
+    assert_close(volume(&once), volume(&chain), 1e-9, 1.0, "scene volume");
+    let evaluation = evaluate(&tree, &BooleanOptions::default()).unwrap();
+    assert_eq!((evaluation.leaves, evaluation.operations), (5, 3));
+}
+
+/// 27 unit cubes touching face to face make the 3 × 3 × 3 cube exactly; with coplanar
+/// merging its polygons are the 6 squares over its 8 corners, every inner face gone.
+#[test]
+fn a_union_of_27_touching_cubes_is_one_cube() {
+    let cubes: Vec<Node> = (0..27)
+        .map(|i| {
+            let p = [i % 3, i / 3 % 3, i / 9].map(f64::from);
+            Node::mesh(cuboid(p, p.map(|x| x + 1.0)), format!("cube {i}"))
+        })
+        .collect();
+    let tree = Node::apply(Operation::Union, cubes);
+    let mesh = one_pass(&tree);
+    assert_eq!(volume(&mesh), 27.0);
+    let options = BooleanOptions {
+        faces: FaceMode::Polygons,
+        merge_coplanar: true,
+        ..BooleanOptions::default()
+    };
+    let merged = evaluate(&tree, &options).unwrap().result.mesh;
+    assert_eq!((merged.face_count(), merged.vertex_count()), (6, 8));
+    assert!(merged.report().is_valid_solid());
+}
+
+/// A tower minus a stack of three boxes flush with its sides and each other: every cut face
+/// coincides with another; the volume is exact.
+#[test]
+fn a_difference_of_coplanar_stacks_is_exact() {
+    let tower = Node::mesh(cuboid([0.0; 3], [2.0, 2.0, 6.0]), "tower");
+    let stack: Vec<Node> = (0..3)
+        .map(|k| {
+            let z = 1.0 + 1.5 * f64::from(k);
+            Node::mesh(
+                cuboid([0.0, 0.0, z], [1.0, 2.0, z + 1.5]),
+                format!("slab {k}"),
+            )
+        })
+        .collect();
+    let tree = Node::apply(
+        Operation::Difference,
+        vec![tower, Node::apply(Operation::Union, stack)],
+    );
+    let mesh = one_pass(&tree);
+    assert_eq!(volume(&mesh), 24.0 - 9.0);
+    assert_close(
+        volume(&mesh),
+        volume(&chained(&tree)),
+        1e-12,
+        24.0,
+        "stacks",
+    );
+}
+
+/// A leaf moved by a rotation about a random axis and a translation.
+fn moved(mesh: Mesh, name: String, seed: &mut u64) -> Node {
+    let mut next = || {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let axis = [next() - 0.5, next() - 0.5, next() - 0.5 + 1e-3];
+    let r = rotation(axis, 6.0 * next());
+    let t = [next() - 0.5, next() - 0.5, next() - 0.5];
+    let transform: Affine = std::array::from_fn(|i| [r[i][0], r[i][1], r[i][2], t[i]]);
+    Node {
+        transform: Some(transform),
+        ..Node::mesh(mesh, name)
+    }
+}
+
+/// Random trees of rigidly moved boxes and spheres: the one-pass result is a valid solid
+/// whose volume equals the chain of binary booleans' to 1e-9.
+#[test]
+fn random_trees_in_one_pass_match_their_chains() {
+    let ops = [
+        Operation::Union,
+        Operation::Intersection,
+        Operation::Difference,
+    ];
+    for tree_seed in 0..6u64 {
+        let mut seed = 0x9e37_79b9_7f4a_7c15 ^ tree_seed;
+        let leaf = |k: usize, seed: &mut u64| {
+            let mesh = if k % 2 == 0 {
+                cuboid([-0.5, -0.4, -0.3], [0.5, 0.4, 0.3])
+            } else {
+                icosphere([0.0; 3], 0.45, 2)
+            };
+            moved(mesh, format!("leaf {k}"), seed)
+        };
+        let inner: Vec<Node> = (0..2)
+            .map(|g| {
+                let children = vec![leaf(2 * g, &mut seed), leaf(2 * g + 1, &mut seed)];
+                Node::apply(ops[(tree_seed as usize + g) % 3], children)
+            })
+            .collect();
+        let tree = Node::apply(
+            ops[(tree_seed as usize / 3) % 2],
+            [inner, vec![leaf(4, &mut seed)]].concat(),
+        );
+        let once = one_pass(&tree);
+        let chain = chained(&tree);
+        assert_close(
+            volume(&once),
+            volume(&chain),
+            1e-9,
+            1.0,
+            &format!("tree {tree_seed}"),
+        );
+    }
+}
