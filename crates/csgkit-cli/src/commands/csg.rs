@@ -6,11 +6,12 @@
 //! self-intersection check and file I/O), the seconds of every stage, and the leaf and
 //! operation counts.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
 use clap::Args;
+use csgkit::csg::openscad::parse_openscad_csg;
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Node, NodeKind, evaluate};
 use csgkit::exact::{BooleanOptions, Stage};
@@ -27,7 +28,8 @@ const PROGRESS_MIN_FACES: usize = 20_000;
 #[derive(Args, Debug, Clone)]
 pub struct CsgArgs {
     /// The scene: a JSON tree of unions, intersections and differences over meshes, boxes
-    /// and primitives, with transforms and materials (see `csgkit help csg`).
+    /// and primitives, with transforms and materials (see `csgkit help csg`), an OpenSCAD
+    /// CSG export (.csg), or an OpenSCAD model (.scad, exported by `openscad` on PATH).
     pub scene: PathBuf,
     /// The output mesh; its extension chooses the format (obj, ply, off, stl).
     #[arg(short, long)]
@@ -46,15 +48,8 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
     let format = Format::from_extension(&args.output).ok_or_else(|| WriteError::UnknownFormat {
         path: args.output.clone(),
     })?;
-    let is_json = (args.scene.extension()).is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    if !is_json {
-        bail!(
-            "{}: csgkit reads JSON scenes (.json); OpenSCAD files are not read yet",
-            args.scene.display()
-        );
-    }
     let clock = Instant::now();
-    let tree = read_scene(&args.scene)?;
+    let tree = read_tree(&args.scene)?;
     let read_seconds = clock.elapsed().as_secs_f64();
     let bar = StageBar::new(leaf_faces(&tree), PROGRESS_MIN_FACES);
     let show = |stage: Stage, done: usize, total: usize| match &bar {
@@ -104,6 +99,50 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
         println!("{stats}");
     }
     Ok(())
+}
+
+/// The tree of a JSON scene, an OpenSCAD `.csg` file, or a `.scad` file (through `openscad
+/// -o TMP.csg` when OpenSCAD is on PATH).
+fn read_tree(scene: &Path) -> anyhow::Result<Node> {
+    let extension = (scene.extension().and_then(|e| e.to_str()))
+        .unwrap_or_default()
+        .to_ascii_lowercase();
+    match extension.as_str() {
+        "json" => Ok(read_scene(scene)?),
+        "csg" => {
+            let text = std::fs::read_to_string(scene)
+                .with_context(|| format!("cannot read {}", scene.display()))?;
+            parse_openscad_csg(&text).with_context(|| format!("{}", scene.display()))
+        }
+        "scad" => {
+            let dir = tempfile::TempDir::new().context("cannot make a temporary directory")?;
+            let csg = dir.path().join("model.csg");
+            let status = std::process::Command::new("openscad")
+                .arg("-o")
+                .arg(&csg)
+                .arg(scene)
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .status();
+            match status {
+                Ok(s) if s.success() && csg.exists() => {
+                    let text = std::fs::read_to_string(&csg)?;
+                    parse_openscad_csg(&text)
+                        .with_context(|| format!("{} (exported by openscad)", scene.display()))
+                }
+                Ok(_) => bail!("openscad could not export {}", scene.display()),
+                Err(_) => bail!(
+                    "{}: OpenSCAD is not on PATH; export the tree with `openscad -o model.csg {}` and pass model.csg",
+                    scene.display(),
+                    scene.display()
+                ),
+            }
+        }
+        _ => bail!(
+            "{}: a scene is a JSON file (.json), an OpenSCAD CSG export (.csg) or an OpenSCAD model (.scad)",
+            scene.display()
+        ),
+    }
 }
 
 /// The faces of every leaf of `node`.

@@ -6,7 +6,9 @@
 //! - [`tree`]: CSG trees of meshes with transforms and materials, evaluated by the exact
 //!   engine in one arrangement of all leaves.
 //! - [`scene`]: the JSON scene format, read into a tree.
+//! - [`openscad`]: OpenSCAD's `.csg` export, read into a tree with OpenSCAD's tessellation.
 
+pub mod openscad;
 pub mod primitives;
 pub mod scene;
 pub mod tree;

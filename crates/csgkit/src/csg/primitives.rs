@@ -221,48 +221,35 @@ pub fn cylinder(base: [f64; 3], radius: f64, height: f64, segments: u32) -> Mesh
 
 /// The sphere of `radius` about `centre` as OpenSCAD tessellates it with `fragments` points
 /// per ring: `(fragments + 1) / 2` rings at polar angles `180° · (i + ½) / rings`, each with
-/// `fragments` points from azimuth 0 counter-clockwise seen from +z; quads between rings and
-/// one polygon cap at each end (outward).
+/// `fragments` points from azimuth 0 counter-clockwise seen from +z (degree trigonometry as
+/// OpenSCAD's); quads between rings and one polygon cap at each end (outward).
 ///
 /// # Panics
 /// If `fragments` is below 3.
 pub fn uv_sphere(centre: [f64; 3], radius: f64, fragments: u32) -> Mesh {
     assert!(fragments >= 3, "a sphere needs at least 3 fragments");
-    let rings = fragments.div_ceil(2).max(2);
     let n = fragments;
+    let rings = n.div_ceil(2);
     let mut positions = Vec::with_capacity((rings * n) as usize);
     for i in 0..rings {
-        let polar = std::f64::consts::PI * (f64::from(i) + 0.5) / f64::from(rings);
-        let (ring_radius, z) = (radius * polar.sin(), radius * polar.cos());
-        for j in 0..n {
-            let (s, c) = (std::f64::consts::TAU * f64::from(j) / f64::from(n)).sin_cos();
-            positions.push([
-                centre[0] + ring_radius * c,
-                centre[1] + ring_radius * s,
-                centre[2] + z,
-            ]);
-        }
+        let polar = 180.0 * (f64::from(i) + 0.5) / f64::from(rings);
+        let (ring, z) = (radius * sin_degrees(polar), radius * cos_degrees(polar));
+        positions.extend(
+            (circle(ring, n).into_iter())
+                .map(|[x, y]| [centre[0] + x, centre[1] + y, centre[2] + z]),
+        );
     }
     let at = |i: u32, j: u32| i * n + j % n;
-    let mut corners: Vec<u32> = Vec::new();
-    let mut starts = vec![0u32];
-    let mut face = |corners: &mut Vec<u32>, f: &[u32]| {
-        corners.extend_from_slice(f);
-        starts.push(corners.len() as u32);
-    };
-    face(&mut corners, &(0..n).map(|j| at(0, j)).collect::<Vec<_>>());
+    let mut corners: Vec<u32> = (0..n).map(|j| at(0, j)).collect();
+    let mut starts = vec![0, n];
     for i in 0..rings - 1 {
         for j in 0..n {
-            face(
-                &mut corners,
-                &[at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)],
-            );
+            corners.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
+            starts.push(corners.len() as u32);
         }
     }
-    face(
-        &mut corners,
-        &(0..n).rev().map(|j| at(rings - 1, j)).collect::<Vec<_>>(),
-    );
+    corners.extend((0..n).rev().map(|j| at(rings - 1, j)));
+    starts.push(corners.len() as u32);
     Mesh::from_parts(crate::mesh::MeshParts {
         positions,
         corners,
@@ -270,6 +257,47 @@ pub fn uv_sphere(centre: [f64; 3], radius: f64, fragments: u32) -> Mesh {
         ..Default::default()
     })
     .expect("sphere corners index its rings")
+}
+
+/// `sin` of `x` degrees with OpenSCAD's exact values at multiples of 30° and 45°
+/// (`src/degree_trig.cc`), so tessellations match OpenSCAD's.
+pub(crate) fn sin_degrees(x: f64) -> f64 {
+    let mut x = x.rem_euclid(360.0);
+    let oppose = x >= 180.0;
+    if oppose {
+        x -= 180.0;
+    }
+    if x > 90.0 {
+        x = 180.0 - x;
+    }
+    let s = if x == 0.0 {
+        0.0
+    } else if x == 30.0 {
+        0.5
+    } else if x == 45.0 {
+        std::f64::consts::FRAC_1_SQRT_2
+    } else if x == 60.0 {
+        3f64.sqrt() / 2.0
+    } else if x == 90.0 {
+        1.0
+    } else {
+        x.to_radians().sin()
+    };
+    if oppose { -s } else { s }
+}
+
+pub(crate) fn cos_degrees(x: f64) -> f64 {
+    sin_degrees(x + 90.0)
+}
+
+/// OpenSCAD's circle of `n` points of radius `r`, from angle 0 counter-clockwise.
+pub(crate) fn circle(r: f64, n: u32) -> Vec<[f64; 2]> {
+    (0..n)
+        .map(|i| {
+            let phi = 360.0 * f64::from(i) / f64::from(n);
+            [r * cos_degrees(phi), r * sin_degrees(phi)]
+        })
+        .collect()
 }
 
 #[cfg(test)]
