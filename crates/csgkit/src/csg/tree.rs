@@ -10,7 +10,7 @@
 //! operations of a tree.
 
 use crate::exact::{
-    Boolean, BooleanError, BooleanOptions, Expression, Operation, boolean_expression,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, Operation, boolean_expression,
 };
 use crate::mesh::{Mesh, MeshParts};
 
@@ -112,9 +112,14 @@ pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, Csg
     let mut flat = Flattened::default();
     let expression = flat.visit(root, IDENTITY, None)?;
     if flat.leaves.is_empty() {
-        return Err(CsgError::Boolean {
-            leaf: None,
-            error: BooleanError::NoOperands,
+        // A tree without leaves (an OpenSCAD model that only echoes) is the empty solid.
+        return Ok(Evaluation {
+            result: Boolean {
+                mesh: Mesh::new(),
+                stats: BooleanStats::default(),
+            },
+            leaves: 0,
+            operations: flat.operations,
         });
     }
     let operands: Vec<&Mesh> = flat.leaves.iter().collect();
@@ -271,6 +276,15 @@ mod tests {
         assert_eq!(report.measures.volume, 2.0);
         assert_eq!(report.measures.bbox.expect("a box").min[0], -3.0);
         assert_eq!((out.leaves, out.operations), (2, 1));
+    }
+
+    #[test]
+    fn a_tree_without_leaves_is_empty() {
+        let out = evaluate(
+            &Node::apply(Operation::Union, Vec::new()),
+            &BooleanOptions::default(),
+        );
+        assert!(out.unwrap().result.mesh.is_empty());
     }
 
     #[test]
