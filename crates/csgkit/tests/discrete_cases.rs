@@ -13,7 +13,7 @@ use csgkit::csg::primitives::{cuboid, icosphere};
 use csgkit::discrete::{BoolOp, DiscretizeError, DiscretizeOptions, Grid, Solid, discretize};
 use robust::{Coord, orient2d};
 
-use crate::util::{repo_data, shared_data};
+use crate::util::{polygon_normal, repo_data, shared_data};
 
 /// The parallelepiped `o + a·u + b·v + c·w`, `a, b, c ∈ [0, 1]`; `(u, v, w)` right-handed.
 fn parallelepiped(o: [f64; 3], u: [f64; 3], v: [f64; 3], w: [f64; 3]) -> Mesh {
@@ -649,24 +649,12 @@ fn painted(mesh: &Mesh, name: &str) -> Mesh {
 /// The area of the faces of each material of `mesh`, by name (each face's vector area, so
 /// non-convex faces count right).
 fn area_by_material(mesh: &Mesh) -> std::collections::BTreeMap<String, f64> {
-    let mut vector = vec![[0.0f64; 3]; mesh.face_count()];
-    for (f, t) in mesh.fan_triangles() {
-        let p = t.map(|v| mesh.positions()[v as usize]);
-        let (u, w) = (
-            [0, 1, 2].map(|k| p[1][k] - p[0][k]),
-            [0, 1, 2].map(|k| p[2][k] - p[0][k]),
-        );
-        let n = [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ];
-        (0..3).for_each(|k| vector[f.index()][k] += 0.5 * n[k]);
-    }
     let ids = mesh.face_materials().expect("materials");
     let mut out = std::collections::BTreeMap::new();
-    for (f, a) in vector.iter().enumerate() {
-        let area = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    for (f, face) in mesh.faces().enumerate() {
+        let corners: Vec<[f64; 3]> = face.iter().map(|&v| mesh.positions()[v as usize]).collect();
+        let n = polygon_normal(&corners);
+        let area = 0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
         *out.entry(mesh.materials()[ids[f] as usize].clone())
             .or_insert(0.0) += area;
     }

@@ -179,18 +179,7 @@ fn uv_sphere(rings: usize, segments: usize) -> Mesh {
         }
         faces.push(vec![at(rings - 1, j + 1), at(rings - 1, j), south]);
     }
-    let mut starts = vec![0u32];
-    let corners: Vec<u32> = faces.concat();
-    for face in &faces {
-        starts.push(starts.last().copied().unwrap_or(0) + face.len() as u32);
-    }
-    Mesh::from_parts(csgkit::MeshParts {
-        positions,
-        corners,
-        face_starts: Some(starts),
-        ..Default::default()
-    })
-    .expect("a valid sphere")
+    Mesh::from_polygons(positions, &faces).expect("a valid sphere")
 }
 
 /// A UV sphere of quads united with a box through its side: every quad away from the box

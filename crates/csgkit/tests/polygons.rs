@@ -5,7 +5,7 @@
 use csgkit::csg::primitives::cuboid;
 use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
 use csgkit::mesh::{Overlap, PolygonError, are_collinear, triangulate_faces};
-use csgkit::{FaceId, Mesh, MeshParts, self_intersections};
+use csgkit::{FaceId, Mesh, self_intersections};
 use num_rational::BigRational;
 use num_traits::Zero;
 
@@ -13,19 +13,7 @@ use crate::util::exact_volume;
 
 /// One mesh of polygon faces.
 fn polygon_mesh(positions: Vec<[f64; 3]>, faces: &[Vec<u32>]) -> Mesh {
-    let mut starts = vec![0u32];
-    let mut corners = Vec::new();
-    for face in faces {
-        corners.extend_from_slice(face);
-        starts.push(corners.len() as u32);
-    }
-    Mesh::from_parts(MeshParts {
-        positions,
-        corners,
-        face_starts: Some(starts),
-        ..MeshParts::default()
-    })
-    .expect("valid by construction")
+    Mesh::from_polygons(positions, faces).expect("valid by construction")
 }
 
 /// The prism over a counter-clockwise `outline` between heights `z0 < z1`: two caps of the

@@ -56,13 +56,13 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
         Some(bar) => bar.update(&stage_name(stage), done, total),
         None => true,
     };
-    let options = BooleanOptions {
-        faces: args.faces.face_mode(format),
-        merge_coplanar: args.faces.merge_coplanar,
-        simplify: args.faces.simplify,
-        progress: Some(&show),
-        ..BooleanOptions::default()
-    };
+    let options = args.faces.apply(
+        format,
+        BooleanOptions {
+            progress: Some(&show),
+            ..BooleanOptions::default()
+        },
+    );
     let evaluation = evaluate(&tree, &options);
     bar.inspect(StageBar::finish);
     let evaluation =

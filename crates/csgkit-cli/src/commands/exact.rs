@@ -93,8 +93,19 @@ pub struct FaceArgs {
 }
 
 impl FaceArgs {
+    /// `options` with the faces, merging and simplification these arguments ask for, for a
+    /// result written in `format`.
+    pub fn apply<'a>(&self, format: Format, options: BooleanOptions<'a>) -> BooleanOptions<'a> {
+        BooleanOptions {
+            faces: self.face_mode(format),
+            merge_coplanar: self.merge_coplanar,
+            simplify: self.simplify,
+            ..options
+        }
+    }
+
     /// The faces to write in `format`: as asked, triangles by default and in STL.
-    pub fn face_mode(&self, format: Format) -> FaceMode {
+    fn face_mode(&self, format: Format) -> FaceMode {
         if format == Format::Stl {
             FaceMode::Triangles
         } else if self.quads {
@@ -177,11 +188,10 @@ fn compute(
         check_self_intersections: !args.no_self_check,
         winding: args.winding.rule(),
         split_non_manifold: args.manifold,
-        faces: args.faces.face_mode(format),
-        merge_coplanar: args.faces.merge_coplanar,
-        simplify: args.faces.simplify,
         progress: Some(&show),
+        ..BooleanOptions::default()
     };
+    let options = args.faces.apply(format, options);
     let result = boolean(op, &operands, &options);
     bar.inspect(StageBar::finish);
     result.map_err(|err| name_operand(err, &args.inputs))

@@ -24,7 +24,7 @@
 use super::primitives::{circle, cuboid, uv_sphere};
 use super::tree::{Affine, Node};
 use crate::exact::Operation;
-use crate::mesh::{Mesh, MeshParts};
+use crate::mesh::Mesh;
 
 /// Why a `.csg` file could not be read: the line and what is wrong there.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -450,8 +450,7 @@ fn build(
                     _ => None,
                 })
                 .ok_or_else(|| bad("polyhedron faces must be lists of indices".into()))?;
-            let mut corners = Vec::new();
-            let mut starts = vec![0u32];
+            let mut polygons = Vec::with_capacity(faces.len());
             for face in &faces {
                 let valid = |&i: &f64| i >= 0.0 && i.fract() == 0.0 && (i as usize) < points.len();
                 if face.len() < 3 || !face.iter().all(valid) {
@@ -459,16 +458,10 @@ fn build(
                         "polyhedron face {face:?} is not a polygon of its points"
                     )));
                 }
-                corners.extend(face.iter().rev().map(|&i| i as u32));
-                starts.push(corners.len() as u32);
+                polygons.push(face.iter().rev().map(|&i| i as u32).collect::<Vec<u32>>());
             }
-            let mesh = Mesh::from_parts(MeshParts {
-                positions: points,
-                corners,
-                face_starts: Some(starts),
-                ..MeshParts::default()
-            })
-            .map_err(|e| bad(format!("polyhedron: {e}")))?;
+            let mesh = Mesh::from_polygons(points, &polygons)
+                .map_err(|e| bad(format!("polyhedron: {e}")))?;
             leaf(mesh, name, line)
         }
         other => {
@@ -534,23 +527,7 @@ fn cylinder(r1: f64, r2: f64, z1: f64, z2: f64, n: u32) -> Mesh {
         }
         faces.push(side);
     }
-    polygons(positions, &faces)
-}
-
-fn polygons(positions: Vec<[f64; 3]>, faces: &[Vec<u32>]) -> Mesh {
-    let mut starts = vec![0u32];
-    let mut corners = Vec::new();
-    for f in faces {
-        corners.extend_from_slice(f);
-        starts.push(corners.len() as u32);
-    }
-    Mesh::from_parts(MeshParts {
-        positions,
-        corners,
-        face_starts: Some(starts),
-        ..MeshParts::default()
-    })
-    .expect("primitive faces index its points")
+    Mesh::from_polygons(positions, &faces).expect("primitive faces index its points")
 }
 
 #[cfg(test)]

@@ -240,23 +240,12 @@ pub fn uv_sphere(centre: [f64; 3], radius: f64, fragments: u32) -> Mesh {
         );
     }
     let at = |i: u32, j: u32| i * n + j % n;
-    let mut corners: Vec<u32> = (0..n).map(|j| at(0, j)).collect();
-    let mut starts = vec![0, n];
+    let mut faces: Vec<Vec<u32>> = vec![(0..n).map(|j| at(0, j)).collect()];
     for i in 0..rings - 1 {
-        for j in 0..n {
-            corners.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
-            starts.push(corners.len() as u32);
-        }
+        faces.extend((0..n).map(|j| vec![at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]));
     }
-    corners.extend((0..n).rev().map(|j| at(rings - 1, j)));
-    starts.push(corners.len() as u32);
-    Mesh::from_parts(crate::mesh::MeshParts {
-        positions,
-        corners,
-        face_starts: Some(starts),
-        ..Default::default()
-    })
-    .expect("sphere corners index its rings")
+    faces.push((0..n).rev().map(|j| at(rings - 1, j)).collect());
+    Mesh::from_polygons(positions, &faces).expect("sphere corners index its rings")
 }
 
 /// `sin` of `x` degrees with OpenSCAD's exact values at multiples of 30° and 45°

@@ -20,7 +20,7 @@ use super::grid::Grid;
 use super::ops::OpError;
 use super::tile::Solid;
 use crate::mesh::attributes::DEFAULT_NAME;
-use crate::mesh::{Mesh, MeshParts, Rgba, analyze_topology};
+use crate::mesh::{Mesh, Rgba, analyze_topology};
 use crate::ortho::{MeshOptions, OrthoError, box_union_with_materials};
 
 /// The voxels of one material.
@@ -58,18 +58,11 @@ pub fn material_parts(mesh: &Mesh) -> Vec<(String, Option<Rgba>, Mesh)> {
     let mut parts = Vec::with_capacity(materials.len());
     for m in materials {
         let faces: Vec<usize> = (0..mesh.face_count()).filter(|&f| ids[f] == m).collect();
-        let mut sub = MeshParts {
-            positions: mesh.positions().to_vec(),
-            face_starts: Some(vec![0]),
-            ..MeshParts::default()
-        };
-        for &f in &faces {
-            sub.corners
-                .extend_from_slice(mesh.face(crate::mesh::FaceId::new(f)));
-            let end = sub.corners.len() as u32;
-            sub.face_starts.as_mut().expect("set above").push(end);
-        }
-        let sub = Mesh::from_parts(sub).expect("faces of the mesh over its own vertices");
+        let polygons: Vec<&[u32]> = (faces.iter())
+            .map(|&f| mesh.face(crate::mesh::FaceId::new(f)))
+            .collect();
+        let sub = Mesh::from_polygons(mesh.positions().to_vec(), &polygons)
+            .expect("faces of the mesh over its own vertices");
         if !analyze_topology(&sub).is_closed() {
             return whole();
         }

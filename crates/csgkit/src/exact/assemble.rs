@@ -32,7 +32,7 @@ pub(crate) struct Rounded {
 }
 
 /// The mesh of the reconstructed triangles, with its rounded and changed vertices marked.
-pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: &Reconstructed) -> Rounded {
+pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -> Rounded {
     // Used vertices keep their relative order (input vertices, then intersection points), so
     // the numbering is deterministic and every step but the marking runs in parallel.
     let mut new_id = vec![u32::MAX; arr.vertex_count(input)];
@@ -67,7 +67,7 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: &Reconstructed) 
     let mesh = Mesh::from_parts(MeshParts {
         positions,
         corners,
-        face_provenance: Some(faces.provenance.clone()),
+        face_provenance: Some(faces.provenance),
         ..MeshParts::default()
     })
     .expect("reconstructed triangles index their own vertices");

@@ -519,7 +519,7 @@ fn exact_result(
     );
     stats.removed_vertices = faces.removed_vertices;
     clock.finish(Stage::Reconstruct, stats)?;
-    let rounded = assemble::assemble(&input, &arrangement, &faces);
+    let rounded = assemble::assemble(&input, &arrangement, faces);
     clock.finish(Stage::Assemble, stats)?;
     Ok(rounded)
 }

@@ -46,6 +46,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use crate::kernel::{Axis, Point, Sign, compare_along, orient2d_projected, orient3d};
+use crate::mesh::numbering::FaceNumbering;
 use crate::mesh::union_find::UnionFind;
 use crate::mesh::vector::triangle_shape;
 use crate::mesh::{FaceId, Mesh, OperandId, Provenance};
@@ -150,9 +151,8 @@ pub(crate) fn reconstruct(
 
 /// Which output face every input triangle's sub-triangles belong to.
 struct FaceGroups {
-    /// The first dense face id of each operand (the faces of all operands numbered in order),
-    /// and the total at the end.
-    face_base: Vec<u32>,
+    /// The source faces, numbered densely.
+    numbering: FaceNumbering,
     /// Per dense face id: its group, where faces were joined (roots are the lowest member,
     /// whose provenance the group records); `None` while every face is its own group.
     groups: Option<UnionFind>,
@@ -162,15 +162,8 @@ impl FaceGroups {
     /// One group per input face, joined where an operand's faces share a provenance.
     fn new(input: &Input, operands: &[&Mesh]) -> Self {
         debug_assert_eq!(input.operand_count(), operands.len());
-        let mut face_base = Vec::with_capacity(operands.len() + 1);
-        let mut total = 0u32;
-        for mesh in operands {
-            face_base.push(total);
-            total += mesh.face_count() as u32;
-        }
-        face_base.push(total);
         let mut faces = Self {
-            face_base,
+            numbering: FaceNumbering::new(operands),
             groups: None,
         };
         for (k, mesh) in operands.iter().enumerate() {
@@ -179,7 +172,7 @@ impl FaceGroups {
             };
             let mut first: FxHashMap<Provenance, u32> = FxHashMap::default();
             for (f, p) in provenance.iter().enumerate() {
-                let id = faces.face_base[k] + f as u32;
+                let id = faces.numbering.id(k, FaceId::new(f));
                 let root = *first.entry(*p).or_insert(id);
                 if root != id {
                     faces.join(root, id);
@@ -190,13 +183,13 @@ impl FaceGroups {
     }
 
     fn join(&mut self, a: u32, b: u32) {
-        let total = *self.face_base.last().expect("a total") as usize;
+        let total = self.numbering.total() as usize;
         (self.groups.get_or_insert_with(|| UnionFind::new(total))).union(a, b);
     }
 
     /// The dense id of input triangle `t`'s face.
     fn face(&self, input: &Input, t: u32) -> u32 {
-        self.face_base[input.operand[t as usize] as usize] + input.face[t as usize].get()
+        self.numbering.of(source_face(input, t))
     }
 
     /// The group of input triangle `t`.
@@ -210,7 +203,7 @@ impl FaceGroups {
 
     /// Every dense face's group, if faces were joined.
     fn roots(&mut self) -> Option<Vec<u32>> {
-        let total = *self.face_base.last().expect("a total");
+        let total = self.numbering.total();
         let groups = self.groups.as_mut()?;
         Some((0..total).map(|f| groups.find(f)).collect())
     }
@@ -219,12 +212,8 @@ impl FaceGroups {
     /// the [`roots`](Self::roots).
     fn provenance(&self, input: &Input, roots: Option<&[u32]>, t: u32) -> Provenance {
         let face = self.face(input, t);
-        let root = roots.map_or(face, |roots| roots[face as usize]);
-        let k = self.face_base.partition_point(|&b| b <= root) - 1;
-        Provenance {
-            operand: OperandId::new(k),
-            face: FaceId::new((root - self.face_base[k]) as usize),
-        }
+        self.numbering
+            .provenance(roots.map_or(face, |roots| roots[face as usize]))
     }
 
     /// Joins the groups of faces that share an edge, lie in one plane and look alike (see
@@ -236,26 +225,7 @@ impl FaceGroups {
         triangles: &[[u32; 3]],
         source: &[u32],
     ) {
-        // Each undirected edge: its first use, and how many uses it has.
-        let mut edges: FxHashMap<(u32, u32), (u32, u32)> = FxHashMap::default();
-        for (k, t) in triangles.iter().enumerate() {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                let entry = edges.entry((a.min(b), a.max(b))).or_insert((k as u32, 0));
-                entry.1 += 1;
-            }
-        }
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
-        for (k, t) in triangles.iter().enumerate() {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                let (first, uses) = edges[&(a.min(b), a.max(b))];
-                if uses == 2 && first != k as u32 {
-                    pairs.push((first, k as u32));
-                }
-            }
-        }
-        for (k, l) in pairs {
+        for (k, l) in star::side_neighbours(triangles) {
             let (s, t) = (source[k as usize], source[l as usize]);
             let (g, h) = (self.group(input, s), self.group(input, t));
             let alike = faces_look_alike(operands, source_face(input, s), source_face(input, t));

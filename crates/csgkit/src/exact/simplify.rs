@@ -27,11 +27,10 @@
 //! Decisions here use f64 and the tolerance: they choose which vertices to keep, the exact
 //! checks of certification decide validity.
 
-use rustc_hash::FxHashMap;
-
+use crate::mesh::numbering::FaceNumbering;
 use crate::mesh::union_find::UnionFind;
 use crate::mesh::vector::{cross, dot, sub, triangle_normal, triangle_shape};
-use crate::mesh::{FaceId, Mesh, MeshParts, OperandId, Provenance};
+use crate::mesh::{Mesh, MeshParts, Provenance};
 
 use super::assemble::Rounded;
 use super::reconstruct::faces_look_alike;
@@ -72,46 +71,25 @@ pub(crate) fn simplify(rounded: Rounded, operands: &[&Mesh], delta: f64) -> (Rou
 
 /// Source faces joined into groups by flatness.
 struct Faces {
-    /// The first dense face id of each operand.
-    base: Vec<u32>,
+    numbering: FaceNumbering,
     groups: UnionFind,
 }
 
 impl Faces {
     fn new(operands: &[&Mesh], provenance: &[Provenance]) -> Self {
-        let mut base = Vec::with_capacity(operands.len());
-        let mut total = 0u32;
-        for mesh in operands {
-            base.push(total);
-            total += mesh.face_count() as u32;
-        }
         debug_assert!(
             provenance
                 .iter()
                 .all(|p| p.operand.index() < operands.len())
         );
-        Self {
-            base,
-            groups: UnionFind::new(total as usize),
-        }
-    }
-
-    fn dense(&self, p: Provenance) -> u32 {
-        self.base[p.operand.index()] + p.face.get()
+        let numbering = FaceNumbering::new(operands);
+        let groups = UnionFind::new(numbering.total() as usize);
+        Self { numbering, groups }
     }
 
     fn group(&mut self, p: Provenance) -> u32 {
-        let dense = self.dense(p);
+        let dense = self.numbering.of(p);
         self.groups.find(dense)
-    }
-
-    /// The provenance of group `g`'s lowest member.
-    fn provenance(&self, g: u32) -> Provenance {
-        let k = self.base.partition_point(|&b| b <= g) - 1;
-        Provenance {
-            operand: OperandId::new(k),
-            face: FaceId::new((g - self.base[k]) as usize),
-        }
     }
 
     /// Joins neighbouring faces that look alike and are flat to within `delta` together.
@@ -123,33 +101,18 @@ impl Faces {
         provenance: &[Provenance],
         delta: f64,
     ) {
-        let mut by_side: FxHashMap<(u32, u32), (u32, u32)> = FxHashMap::default();
-        for (f, t) in triangles.iter().enumerate() {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                let entry = by_side.entry((a.min(b), a.max(b))).or_insert((f as u32, 0));
-                entry.1 += 1;
+        for (k, l) in star::side_neighbours(triangles) {
+            let (p, q) = (provenance[k as usize], provenance[l as usize]);
+            let (g, h) = (self.group(p), self.group(q));
+            if g == h || !faces_look_alike(operands, p, q) {
+                continue;
             }
-        }
-        for (f, t) in triangles.iter().enumerate() {
-            for i in 0..3 {
-                let (a, b) = (t[i], t[(i + 1) % 3]);
-                let (first, uses) = by_side[&(a.min(b), a.max(b))];
-                if uses != 2 || first == f as u32 {
-                    continue;
-                }
-                let (p, q) = (provenance[first as usize], provenance[f]);
-                if self.group(p) == self.group(q) || !faces_look_alike(operands, p, q) {
-                    continue;
-                }
-                let (s, u) = (triangles[first as usize], *t);
-                let p3 = |v: u32| positions[v as usize];
-                let flat = s.iter().all(|&c| plane_distance(u.map(p3), p3(c)) <= delta)
-                    && u.iter().all(|&c| plane_distance(s.map(p3), p3(c)) <= delta);
-                if flat {
-                    let (g, h) = (self.group(p), self.group(q));
-                    self.groups.union(g, h);
-                }
+            let (s, u) = (triangles[k as usize], triangles[l as usize]);
+            let p3 = |v: u32| positions[v as usize];
+            let flat = s.iter().all(|&c| plane_distance(u.map(p3), p3(c)) <= delta)
+                && u.iter().all(|&c| plane_distance(s.map(p3), p3(c)) <= delta);
+            if flat {
+                self.groups.union(g, h);
             }
         }
     }
@@ -314,7 +277,7 @@ impl<'a> Editable<'a> {
                 corners.push(new_id[v as usize]);
             }
             let root = faces.groups.find(self.group[f]);
-            provenance.push(faces.provenance(root));
+            provenance.push(faces.numbering.provenance(root));
         }
         let mesh = Mesh::from_parts(MeshParts {
             positions: out_positions,
@@ -356,6 +319,7 @@ fn plane_distance(t: [[f64; 3]; 3], p: [f64; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::{FaceId, OperandId};
 
     /// The unit cube as triangles, with the top face fanned around a centre raised by
     /// `lift`, and the front bottom edge split at a midpoint moved out by `lift`: each face

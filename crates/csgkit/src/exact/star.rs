@@ -1,7 +1,34 @@
 //! The star of a vertex in a triangle mesh being edited: its edges by neighbour, whether its
-//! triangles make one disk, and where the faces around it change. Shared by the two stages
-//! that remove vertices by collapsing them onto a neighbour: reconstruct (exact decisions)
-//! and simplify (within a tolerance).
+//! triangles make one disk, and where the faces around it change; and the triangles that
+//! share each side. Shared by the two stages that join faces and remove vertices by
+//! collapsing them onto a neighbour: reconstruct (exact decisions) and simplify (within a
+//! tolerance).
+
+use rustc_hash::FxHashMap;
+
+/// The pairs of triangles (indices into `triangles`) that share a side no other triangle
+/// uses, the lower index first, in order of the higher.
+pub(crate) fn side_neighbours(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    // Each undirected side: its first use, and how many uses it has.
+    let mut sides: FxHashMap<(u32, u32), (u32, u32)> = FxHashMap::default();
+    for (k, t) in triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            sides.entry((a.min(b), a.max(b))).or_insert((k as u32, 0)).1 += 1;
+        }
+    }
+    let mut pairs = Vec::new();
+    for (k, t) in triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            let (first, uses) = sides[&(a.min(b), a.max(b))];
+            if uses == 2 && first != k as u32 {
+                pairs.push((first, k as u32));
+            }
+        }
+    }
+    pairs
+}
 
 /// A collapse of a vertex onto a neighbour: the shape of its worst new triangle, and each new
 /// triangle with the one it replaces.

@@ -270,55 +270,35 @@ pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) {
         }
         out.push(b'\n');
     }
-    let uvs = distinct(mesh.corner_uvs().unwrap_or_default(), |uv| {
+    let uv_of = write_distinct(out, b"vt", mesh.corner_uvs().unwrap_or_default(), |uv| {
         uv.map(f64::to_bits)
     });
-    for &c in &uvs.first_corners {
-        write_floats(
-            out,
-            b"vt",
-            &mesh.corner_uvs().unwrap_or_default()[c as usize],
-            &mut f,
-        );
-    }
-    let normals = distinct(mesh.corner_normals().unwrap_or_default(), |n| {
+    let normal_of = write_distinct(out, b"vn", mesh.corner_normals().unwrap_or_default(), |n| {
         n.map(f32::to_bits)
     });
-    for &c in &normals.first_corners {
-        write_floats(
-            out,
-            b"vn",
-            &mesh.corner_normals().unwrap_or_default()[c as usize],
-            &mut f,
-        );
-    }
-    write_faces(mesh, &uvs.of_corner, &normals.of_corner, out);
+    write_faces(mesh, &uv_of, &normal_of, out);
 }
 
-/// Corner attribute values, each written once: bit-identical values share one `vt` or `vn`
-/// line, so only seams (different values at one vertex) repeat a vertex's attribute.
-struct Distinct {
-    /// The first corner with each distinct value, in order of first use.
-    first_corners: Vec<u32>,
-    /// Per corner: the index of its value among them.
-    of_corner: Vec<u32>,
-}
-
-fn distinct<T, K: std::hash::Hash + Eq>(values: &[T], key: impl Fn(&T) -> K) -> Distinct {
+/// Writes each distinct corner attribute value once, as a `keyword` line, and returns every
+/// corner's index among those lines: bit-identical values share one `vt` or `vn` line, so
+/// only seams (different values at one vertex) repeat a vertex's attribute.
+fn write_distinct<T: ryu::Float, const N: usize, K: std::hash::Hash + Eq>(
+    out: &mut Vec<u8>,
+    keyword: &[u8],
+    values: &[[T; N]],
+    key: impl Fn(&[T; N]) -> K,
+) -> Vec<u32> {
+    let mut f = ryu::Buffer::new();
     let mut index: rustc_hash::FxHashMap<K, u32> = rustc_hash::FxHashMap::default();
-    let mut first_corners = Vec::new();
-    let of_corner = (values.iter().enumerate())
-        .map(|(c, value)| {
+    (values.iter())
+        .map(|value| {
+            let next = index.len() as u32;
             *index.entry(key(value)).or_insert_with(|| {
-                first_corners.push(c as u32);
-                first_corners.len() as u32 - 1
+                write_floats(out, keyword, value, &mut f);
+                next
             })
         })
-        .collect();
-    Distinct {
-        first_corners,
-        of_corner,
-    }
+        .collect()
 }
 
 /// Writes one line made of `pieces`.

@@ -51,6 +51,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::kernel::{Axis, Sign, orient2d};
 
+use super::numbering::FaceNumbering;
 use super::vector::triangle_normal;
 use super::{Mesh, MeshParts, Provenance};
 
@@ -91,17 +92,9 @@ pub fn merge_faces(mesh: Mesh, mode: FaceMode, sources: &[&Mesh]) -> Mesh {
         "merge_faces takes a mesh whose only attribute is provenance"
     );
     // Source faces numbered densely; most keep one triangle and pass through untouched.
-    let mut base = Vec::with_capacity(sources.len());
-    let mut total = 0u32;
-    for source in sources {
-        base.push(total);
-        total += source.face_count() as u32;
-    }
-    let dense = |f: u32| {
-        let p = provenance[f as usize];
-        base[p.operand.index()] + p.face.get()
-    };
-    let mut uses = vec![0u32; total as usize];
+    let numbering = FaceNumbering::new(sources);
+    let dense = |f: u32| numbering.of(provenance[f as usize]);
+    let mut uses = vec![0u32; numbering.total() as usize];
     for f in 0..mesh.face_count() as u32 {
         uses[dense(f) as usize] += 1;
     }

@@ -48,6 +48,7 @@ mod ids;
 mod manifold_split;
 mod measures;
 mod merge_faces;
+pub(crate) mod numbering;
 mod report;
 #[cfg(test)]
 mod test_meshes;
@@ -158,6 +159,29 @@ impl Mesh {
         Self::from_parts(MeshParts {
             positions,
             corners,
+            ..MeshParts::default()
+        })
+    }
+
+    /// Builds a polygon mesh from positions and one corner list per face.
+    ///
+    /// # Errors
+    /// [`InvalidMesh`] if an index is out of range or a face has fewer than three corners.
+    pub fn from_polygons<F: AsRef<[u32]>>(
+        positions: Vec<[f64; 3]>,
+        polygons: &[F],
+    ) -> Result<Self, InvalidMesh> {
+        let mut corners = Vec::new();
+        let mut starts = Vec::with_capacity(polygons.len() + 1);
+        starts.push(0);
+        for polygon in polygons {
+            corners.extend_from_slice(polygon.as_ref());
+            starts.push(corners.len() as u32);
+        }
+        Self::from_parts(MeshParts {
+            positions,
+            corners,
+            face_starts: Some(starts),
             ..MeshParts::default()
         })
     }

@@ -12,25 +12,12 @@ use proptest::prelude::*;
 
 use super::*;
 use crate::kernel::tests::config;
-use crate::mesh::MeshParts;
 
 type Q = BigRational;
 
 /// One mesh holding `polygons` over `positions`.
 fn mesh(positions: Vec<[f64; 3]>, polygons: &[&[u32]]) -> Mesh {
-    let mut starts = vec![0u32];
-    let mut corners = Vec::new();
-    for p in polygons {
-        corners.extend_from_slice(p);
-        starts.push(corners.len() as u32);
-    }
-    Mesh::from_parts(MeshParts {
-        positions,
-        corners,
-        face_starts: Some(starts),
-        ..MeshParts::default()
-    })
-    .expect("valid by construction")
+    Mesh::from_polygons(positions, polygons).expect("valid by construction")
 }
 
 /// A mesh of one polygon in the plane z = 0 with corners `0, 1, …`.
