@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use csgkit::csg::primitives::cuboid;
+use csgkit::primitives::cuboid;
 use csgkit::{WriteOptions, write_mesh};
 use serde_json::Value;
 use tempfile::TempDir;

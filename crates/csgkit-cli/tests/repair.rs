@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use csgkit::csg::primitives::cuboid;
+use csgkit::primitives::cuboid;
 use csgkit::{Mesh, WriteOptions, self_intersections, write_mesh};
 use serde_json::Value;
 use tempfile::TempDir;

@@ -4,7 +4,7 @@
 //! harness compares real models with other voxelisers (see `benches/README.md`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use csgkit::csg::primitives::icosphere;
+use csgkit::primitives::icosphere;
 use csgkit::discrete::{DiscretizeOptions, Grid, discretize};
 
 fn voxelize(c: &mut Criterion) {

@@ -1,12 +1,12 @@
 //! Criterion benches of the exact boolean engine: `exact/<op>/spheres/<triangles per sphere>`.
 //!
-//! Inputs: two icospheres of radius 1 (`csg::primitives::icosphere`, 20·4^s triangles), the
+//! Inputs: two icospheres of radius 1 (`primitives::icosphere`, 20·4^s triangles), the
 //! second moved by (0.5, 0.1, 0.05) so the intersection curve crosses triangles in general
 //! position, like the peers harness's `sphere_sphere` family. The operation runs without the
 //! self-intersection check (its cost is the check's, measured by `csgkit check`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use csgkit::csg::primitives::icosphere;
+use csgkit::primitives::icosphere;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 
 fn spheres(c: &mut Criterion) {

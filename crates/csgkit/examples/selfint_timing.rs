@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use csgkit::csg::primitives::icosphere;
+use csgkit::primitives::icosphere;
 use csgkit::{Mesh, read_mesh, self_intersections};
 
 fn main() {

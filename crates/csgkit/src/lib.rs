@@ -9,7 +9,7 @@
 //! - the orthogonal engine for unions of axis-aligned boxes;
 //! - the discrete engine for multi-scale depth-list solids.
 //!
-//! [`csg::primitives`] builds closed meshes of simple solids (cuboid, icosphere, torus,
+//! [`primitives`] builds closed meshes of simple solids (cuboid, icosphere, torus,
 //! cylinder) in code.
 //!
 //! # API themes
@@ -29,6 +29,7 @@ pub mod io;
 pub mod kernel;
 pub mod mesh;
 pub mod ortho;
+pub mod primitives;
 
 pub use exact::{
     Contact, Feature, Intersection, PointKey, SelfIntersections, Split, SplitError, Triangle,

@@ -2,7 +2,7 @@
 //! leaves touch and coincide, and random trees of moved primitives.
 
 use csgkit::Mesh;
-use csgkit::csg::primitives::{cuboid, icosphere};
+use csgkit::primitives::{cuboid, icosphere};
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Affine, Node, NodeKind, evaluate};
 use csgkit::exact::{BooleanOptions, Operation, boolean};

@@ -9,7 +9,7 @@
 use std::collections::BTreeSet;
 
 use csgkit::Mesh;
-use csgkit::csg::primitives::{cuboid, icosphere};
+use csgkit::primitives::{cuboid, icosphere};
 use csgkit::discrete::{BoolOp, DiscretizeError, DiscretizeOptions, Grid, Solid, discretize};
 use robust::{Coord, orient2d};
 

@@ -2,7 +2,7 @@
 //! disjoint operands, with exact volumes.
 
 use csgkit::Mesh;
-use csgkit::csg::primitives::cuboid;
+use csgkit::primitives::cuboid;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::FaceMode;
 

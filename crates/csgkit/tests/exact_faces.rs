@@ -2,7 +2,7 @@
 //! with the fewest vertices; faces nothing cut come back as read; provenance composes
 //! through chained booleans.
 
-use csgkit::csg::primitives::{cylinder, icosphere};
+use csgkit::primitives::{cylinder, icosphere};
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::FaceMode;
 use csgkit::{Encoding, Format, Mesh};
@@ -307,7 +307,7 @@ fn chained_differences_have_the_faces_of_one_n_ary_difference() {
 /// faces, so the cube's square faces are one face each.)
 #[test]
 fn simplify_keeps_a_chain_through_files_as_small_as_one_difference() {
-    let cube = csgkit::csg::primitives::cuboid([-1.0; 3], [1.0; 3]);
+    let cube = csgkit::primitives::cuboid([-1.0; 3], [1.0; 3]);
     let tilted = |axis: [f64; 3], angle: f64, offset: [f64; 3]| {
         let drill = cylinder([0.0, 0.0, -2.0], 0.3, 4.0, 24);
         crate::util::transformed(&drill, &crate::util::rotation(axis, angle), offset)

@@ -10,7 +10,7 @@
 //! float area is compared to a relative 1e-12.
 
 use csgkit::Mesh;
-use csgkit::csg::primitives::cuboid;
+use csgkit::primitives::cuboid;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::ortho::{MeshOptions, box_union, random_grid_boxes};
 use proptest::prelude::*;

@@ -13,7 +13,7 @@
 
 use std::f64::consts::TAU;
 
-use csgkit::csg::primitives::{cuboid, icosphere};
+use csgkit::primitives::{cuboid, icosphere};
 use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
 use csgkit::{Mesh, self_intersections};
 use num_rational::BigRational;

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use csgkit::Mesh;
-use csgkit::csg::primitives::{cuboid, cylinder};
+use csgkit::primitives::{cuboid, cylinder};
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::BoundingBox;
 

@@ -84,7 +84,7 @@ fn a_vox_palette_survives_a_discrete_union() {
     let model = csgkit::ortho::per_material_mesh(&solids, MeshOptions::default())
         .unwrap()
         .mesh;
-    let bar = csgkit::csg::primitives::cuboid([10.0, 10.0, 10.0], [14.0, 14.0, 30.0]);
+    let bar = csgkit::primitives::cuboid([10.0, 10.0, 10.0], [14.0, 14.0, 30.0]);
     let (grid, _) = Grid::for_cells(&[1.0]).unwrap();
     let options = DiscretizeOptions::default();
     let operands = [

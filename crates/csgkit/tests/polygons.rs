@@ -2,7 +2,7 @@
 //! collinear corners and self-overlapping polygons, in the self-intersection check and the
 //! exact engine, with exact volumes (issue 9).
 
-use csgkit::csg::primitives::cuboid;
+use csgkit::primitives::cuboid;
 use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
 use csgkit::mesh::{Overlap, PolygonError, are_collinear, triangulate_faces};
 use csgkit::{FaceId, Mesh, self_intersections};

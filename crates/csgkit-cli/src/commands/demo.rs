@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use anyhow::Context;
 use clap::Args;
-use csgkit::csg::primitives::{cuboid, cylinder, icosphere, torus};
+use csgkit::primitives::{cuboid, cylinder, icosphere, torus};
 use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
 use csgkit::ortho::{
     MeshOptions, box_union, box_union_per_material, box_union_with_materials, per_material_mesh,

@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use csgkit::Mesh;
-use csgkit::csg::primitives::{cuboid, torus};
+use csgkit::primitives::{cuboid, torus};
 use csgkit::discrete::{
     BoolOp, DiscretizeOptions, FillRule, Grid, MaterialSolid, Rounding, Solid, discretize_parts,
     discretize_with_progress, labelled_mesh,

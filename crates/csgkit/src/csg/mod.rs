@@ -1,15 +1,11 @@
 //! Constructive solid geometry: the layer above the engines.
 //!
-//! - [`primitives`]: closed, outward-oriented meshes of simple solids (cuboid, icosphere,
-//!   OpenSCAD's UV sphere, torus, cylinder), the one definition the demo, the tests, the
-//!   benches and scenes share.
 //! - [`tree`]: CSG trees of meshes with transforms and materials, evaluated by the exact
 //!   engine in one arrangement of all leaves.
 //! - [`scene`]: the JSON scene format, read into a tree.
 //! - [`openscad`]: OpenSCAD's `.csg` export, read into a tree with OpenSCAD's tessellation.
 
 pub mod openscad;
-pub mod primitives;
 pub mod scene;
 pub mod tree;
 

@@ -21,7 +21,7 @@
 //! - A sphere has `(n + 1) / 2` rings at polar angles `180° · (i + ½) / rings`.
 //! - Angles are in degrees with OpenSCAD's exact values at multiples of 30° and 45°.
 
-use super::primitives::{circle, cuboid, uv_sphere};
+use crate::primitives::{circle, cuboid, uv_sphere};
 use super::tree::{Affine, Node};
 use crate::exact::Operation;
 use crate::mesh::Mesh;
@@ -534,7 +534,7 @@ fn cylinder(r1: f64, r2: f64, z1: f64, z2: f64, n: u32) -> Mesh {
 mod tests {
     use super::*;
     use crate::csg::NodeKind;
-    use crate::csg::primitives::{cos_degrees, sin_degrees};
+    use crate::primitives::{cos_degrees, sin_degrees};
 
     #[test]
     fn fragments_follow_openscad() {

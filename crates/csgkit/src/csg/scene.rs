@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use super::primitives::{cuboid, cylinder, uv_sphere};
+use crate::primitives::{cuboid, cylinder, uv_sphere};
 use super::tree::{Affine, Node, NodeKind};
 use crate::exact::Operation;
 use crate::io::{ReadError, read_mesh};

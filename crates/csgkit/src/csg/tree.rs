@@ -244,7 +244,7 @@ fn reverse_faces(parts: &mut MeshParts, mesh: &Mesh) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::csg::primitives::cuboid;
+    use crate::primitives::cuboid;
 
     fn translate(x: f64) -> Affine {
         [

@@ -326,7 +326,7 @@ pub(crate) const ERROR_EXAMPLES: usize = 5;
 /// # Example
 /// Two unit cubes sharing a face make a 2 × 1 × 1 box.
 /// ```
-/// use csgkit::csg::primitives::cuboid;
+/// use csgkit::primitives::cuboid;
 /// use csgkit::exact::{BooleanOptions, Operation, boolean};
 /// let a = cuboid([0.0; 3], [1.0; 3]);
 /// let b = cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]);
@@ -353,7 +353,7 @@ pub fn boolean(
 /// # Example
 /// (A ∪ B) − C for three unit cubes in a row, C overlapping B by half.
 /// ```
-/// use csgkit::csg::primitives::cuboid;
+/// use csgkit::primitives::cuboid;
 /// use csgkit::exact::{BooleanOptions, Expression, Operation, boolean_expression};
 /// let cubes: Vec<_> = [0.0, 1.0, 1.5].iter().map(|&x| cuboid([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0])).collect();
 /// let union = Expression::Apply(Operation::Union, vec![Expression::Operand(0), Expression::Operand(1)]);

@@ -100,7 +100,7 @@ const NONE: u32 = u32::MAX;
 ///
 /// # Example
 /// ```
-/// use csgkit::csg::primitives::cuboid;
+/// use csgkit::primitives::cuboid;
 /// use csgkit::mesh::{analyze_topology, split_non_manifold, weld};
 /// use csgkit::Mesh;
 ///
@@ -613,7 +613,7 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::csg::primitives::{cuboid, icosphere, torus};
+    use crate::primitives::{cuboid, icosphere, torus};
     use crate::mesh::{MeshParts, OperandId, Topology, analyze_topology, measure, weld};
     use crate::ortho::{MeshOptions, box_union};
 

@@ -1,7 +1,7 @@
 //! Small meshes built in code for the unit tests of the measures.
 
 use super::{Mesh, MeshParts};
-use crate::csg::primitives::{self, cuboid};
+use crate::primitives::{self, cuboid};
 
 /// An axis-aligned cube, 8 vertices and 12 outward triangles.
 pub(crate) fn cube(origin: [f64; 3], size: f64) -> Mesh {

@@ -1,5 +1,5 @@
 use super::*;
-use crate::csg::primitives::cuboid;
+use crate::primitives::cuboid;
 use crate::discrete::{Grid, Solid};
 
 fn concat(a: &Mesh, b: &Mesh) -> Mesh {

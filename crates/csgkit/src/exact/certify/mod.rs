@@ -734,7 +734,7 @@ mod tests {
     use crate::mesh::{FaceId, OperandId, Provenance};
 
     fn cube(min: f64, max: f64) -> Mesh {
-        crate::csg::primitives::cuboid([min; 3], [max; 3])
+        crate::primitives::cuboid([min; 3], [max; 3])
     }
 
     #[test]
