@@ -248,6 +248,47 @@ pub fn uv_sphere(centre: [f64; 3], radius: f64, fragments: u32) -> Mesh {
     Mesh::from_polygons(positions, &faces).expect("sphere corners index its rings")
 }
 
+/// OpenSCAD's rule for the number of fragments of a circle (`Calc::get_fragments_from_r` in
+/// `src/calc.cc`): `$fn` when set, otherwise what the smallest angle `$fa` and the smallest
+/// side `$fs` allow.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fragments {
+    /// `$fn`: the fragment count when positive (at least 3).
+    pub fn_: f64,
+    /// `$fa`: the smallest angle of a fragment, in degrees.
+    pub fa: f64,
+    /// `$fs`: the smallest side of a fragment.
+    pub fs: f64,
+}
+
+impl Default for Fragments {
+    /// OpenSCAD's defaults: `$fn = 0`, `$fa = 12`, `$fs = 2`.
+    fn default() -> Self {
+        Fragments {
+            fn_: 0.0,
+            fa: 12.0,
+            fs: 2.0,
+        }
+    }
+}
+
+impl Fragments {
+    /// The fragments of a circle of radius `r`: 3 below 2^-20, `max($fn, 3)` when `$fn` > 0,
+    /// otherwise `ceil(max(min(360 / $fa, 2πr / $fs), 5))`.
+    pub fn count(&self, r: f64) -> u32 {
+        if r < 1.0 / f64::from(1u32 << 20) {
+            return 3;
+        }
+        if self.fn_ > 0.0 {
+            return if self.fn_ >= 3.0 { self.fn_ as u32 } else { 3 };
+        }
+        (360.0 / self.fa)
+            .min(r * 2.0 * std::f64::consts::PI / self.fs)
+            .max(5.0)
+            .ceil() as u32
+    }
+}
+
 /// `sin` of `x` degrees with OpenSCAD's exact values at multiples of 30° and 45°
 /// (`src/degree_trig.cc`), so tessellations match OpenSCAD's.
 pub(crate) fn sin_degrees(x: f64) -> f64 {

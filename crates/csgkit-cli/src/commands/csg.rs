@@ -150,5 +150,6 @@ fn leaf_faces(node: &Node) -> usize {
     match &node.kind {
         NodeKind::Mesh { mesh, .. } => mesh.face_count(),
         NodeKind::Apply(_, children) => children.iter().map(leaf_faces).sum(),
+        NodeKind::Extrude { profile, .. } => leaf_faces(profile),
     }
 }

@@ -21,10 +21,11 @@
 //! - A sphere has `(n + 1) / 2` rings at polar angles `180° · (i + ½) / rings`.
 //! - Angles are in degrees with OpenSCAD's exact values at multiples of 30° and 45°.
 
-use crate::primitives::{circle, cuboid, uv_sphere};
-use super::tree::{Affine, Node};
+use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
+use super::tree::{Affine, Node, NodeKind};
 use crate::exact::Operation;
 use crate::mesh::Mesh;
+use crate::primitives::{Fragments, circle, cuboid, uv_sphere};
 
 /// Why a `.csg` file could not be read: the line and what is wrong there.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -42,18 +43,80 @@ pub struct OpenScadError {
 /// [`OpenScadError`] naming the line of a malformed statement or an unsupported node.
 pub fn parse_openscad_csg(text: &str) -> Result<Node, OpenScadError> {
     let tokens = tokenize(text)?;
-    let mut parser = Parser { tokens, at: 0 };
+    let mut parser = Parser {
+        tokens,
+        at: 0,
+        outlines_made: 0,
+    };
     let mut roots = Vec::new();
     let mut root_only = None;
     while !parser.done() {
-        if let Some((node, root)) = parser.statement()? {
+        if let Some((built, root)) = parser.statement()? {
             if root && root_only.is_none() {
-                root_only = Some(node.clone());
+                root_only = Some(built.clone());
             }
-            roots.push(node);
+            roots.push(built);
         }
     }
-    Ok(root_only.unwrap_or_else(|| Node::apply(Operation::Union, roots)))
+    let model = match root_only {
+        Some(root) => root,
+        None => combine(Operation::Union, roots, parser.line())?,
+    };
+    if model.dimension == Dimension::Flat {
+        return Err(OpenScadError {
+            line: model.line,
+            message: "the model is 2D; csgkit evaluates solids (extrude it with \
+                      linear_extrude or rotate_extrude)"
+                .into(),
+        });
+    }
+    Ok(model.node)
+}
+
+/// A node as the reader builds it: 2D shapes are prisms (see [`super::extrude`]) until an
+/// extrusion sweeps them.
+#[derive(Clone, Debug)]
+struct Built {
+    node: Node,
+    dimension: Dimension,
+    /// Where the node starts, for errors.
+    line: usize,
+}
+
+/// Whether a subtree is a 2D shape or a solid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Dimension {
+    /// No geometry (an empty group).
+    Empty,
+    /// A 2D shape (its prism).
+    Flat,
+    /// A solid.
+    Solid,
+}
+
+/// `op` over `children`, which must all be 2D or all solids (OpenSCAD ignores the ones that
+/// differ from the first with a warning; csgkit refuses the model instead).
+fn combine(op: Operation, children: Vec<Built>, line: usize) -> Result<Built, OpenScadError> {
+    let mut dimension = Dimension::Empty;
+    for child in &children {
+        match (dimension, child.dimension) {
+            (_, Dimension::Empty) => {}
+            (Dimension::Empty, d) => dimension = d,
+            (d, e) if d != e => {
+                return Err(OpenScadError {
+                    line: child.line,
+                    message: "2D shapes and solids are mixed in one operation".into(),
+                });
+            }
+            _ => {}
+        }
+    }
+    let nodes = children.into_iter().map(|c| c.node).collect();
+    Ok(Built {
+        node: Node::apply(op, nodes),
+        dimension,
+        line,
+    })
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -161,6 +224,9 @@ enum Value {
 struct Parser {
     tokens: Vec<(Token, usize)>,
     at: usize,
+    /// Outlines of 2D shapes so far: each prism outline gets its own height (see
+    /// [`super::extrude`]).
+    outlines_made: u32,
 }
 
 impl Parser {
@@ -201,7 +267,7 @@ impl Parser {
 
     /// One statement: its node (`None` when a modifier leaves it out) and whether it is
     /// marked root (`!`).
-    fn statement(&mut self) -> Result<Option<(Node, bool)>, OpenScadError> {
+    fn statement(&mut self) -> Result<Option<(Built, bool)>, OpenScadError> {
         let (mut skip, mut root) = (false, false);
         while let Some(Token::Punct(c @ ('%' | '#' | '!' | '*'))) = self.peek().cloned() {
             self.at += 1;
@@ -248,8 +314,8 @@ impl Parser {
         if let Some(child) = root_child {
             return Ok(Some((child, true)));
         }
-        let node = build(&name, &args, children, line)?;
-        Ok((!skip).then_some((node, root)))
+        let built = build(&name, &args, children, line, &mut self.outlines_made)?;
+        Ok((!skip).then_some((built, root)))
     }
 
     fn arguments(&mut self) -> Result<Vec<(Option<String>, Value)>, OpenScadError> {
@@ -354,15 +420,33 @@ fn vector(value: &Value) -> Option<Vec<f64>> {
 fn build(
     name: &str,
     args: &[(Option<String>, Value)],
-    children: Vec<Node>,
+    children: Vec<Built>,
     line: usize,
-) -> Result<Node, OpenScadError> {
+    outlines_made: &mut u32,
+) -> Result<Built, OpenScadError> {
     let bad = |message: String| OpenScadError { line, message };
-    let union = |children| Node::apply(Operation::Union, children);
+    let union = |children| combine(Operation::Union, children, line);
+    let solid = |node| Built {
+        node,
+        dimension: Dimension::Solid,
+        line,
+    };
+    let mut flat = |outlines: &[Vec<[f64; 2]>]| Built {
+        node: leaf(
+            prism(outlines, |_| {
+                *outlines_made += 1;
+                f64::from(*outlines_made)
+            }),
+            name,
+            line,
+        ),
+        dimension: Dimension::Flat,
+        line,
+    };
     Ok(match name {
-        "group" | "union" | "render" => union(children),
-        "difference" => Node::apply(Operation::Difference, children),
-        "intersection" => Node::apply(Operation::Intersection, children),
+        "group" | "union" | "render" => union(children)?,
+        "difference" => combine(Operation::Difference, children, line)?,
+        "intersection" => combine(Operation::Intersection, children, line)?,
         "multmatrix" => {
             let rows = argument(args, "m", 0)
                 .and_then(|m| match m {
@@ -371,11 +455,18 @@ fn build(
                 })
                 .filter(|rows| rows.len() >= 3 && rows.iter().all(|r| r.len() == 4))
                 .ok_or_else(|| bad("multmatrix needs a 4 × 4 matrix".into()))?;
-            let transform: Affine = std::array::from_fn(|i| std::array::from_fn(|j| rows[i][j]));
-            Node {
-                transform: Some(transform),
-                ..union(children)
+            let mut transform: Affine =
+                std::array::from_fn(|i| std::array::from_fn(|j| rows[i][j]));
+            let mut built = union(children)?;
+            if built.dimension == Dimension::Flat {
+                // A 2D shape moves in its plane (OpenSCAD's Transform2d): its prism keeps
+                // z from 0 to 1.
+                transform[2] = [0.0, 0.0, 1.0, 0.0];
+                transform[0][2] = 0.0;
+                transform[1][2] = 0.0;
             }
+            built.node.transform = Some(transform);
+            built
         }
         "color" => {
             let rgba = argument(args, "c", 0)
@@ -393,10 +484,9 @@ fn build(
                     _ => return Err(bad("color needs a colour".into())),
                 },
             };
-            Node {
-                material: Some(material),
-                ..union(children)
-            }
+            let mut built = union(children)?;
+            built.node.material = Some(material);
+            built
         }
         "cube" => {
             let size = match argument(args, "size", 0) {
@@ -415,11 +505,19 @@ fn build(
             } else {
                 [0.0; 3]
             };
-            leaf(cuboid(min, [0, 1, 2].map(|k| min[k] + size[k])), name, line)
+            solid(leaf(
+                cuboid(min, [0, 1, 2].map(|k| min[k] + size[k])),
+                name,
+                line,
+            ))
         }
         "sphere" => {
             let r = number(argument(args, "r", 0)).unwrap_or(1.0);
-            leaf(uv_sphere([0.0; 3], r, fragments(r, args)), name, line)
+            solid(leaf(
+                uv_sphere([0.0; 3], r, fragments(args).count(r)),
+                name,
+                line,
+            ))
         }
         "cylinder" => {
             let h = number(argument(args, "h", 0)).unwrap_or(1.0);
@@ -430,9 +528,9 @@ fn build(
                 argument(args, "center", usize::MAX),
                 Some(Value::Bool(true))
             );
-            let n = fragments(r1.max(r2), args);
+            let n = fragments(args).count(r1.max(r2));
             let z = if centre { -h / 2.0 } else { 0.0 };
-            leaf(cylinder(r1, r2, z, z + h, n), name, line)
+            solid(leaf(cylinder(r1, r2, z, z + h, n), name, line))
         }
         "polyhedron" => {
             let points: Vec<[f64; 3]> = (argument(args, "points", 0))
@@ -462,7 +560,99 @@ fn build(
             }
             let mesh = Mesh::from_polygons(points, &polygons)
                 .map_err(|e| bad(format!("polyhedron: {e}")))?;
-            leaf(mesh, name, line)
+            solid(leaf(mesh, name, line))
+        }
+        "square" => {
+            let size = match argument(args, "size", 0) {
+                Some(Value::Number(s)) => [*s; 2],
+                Some(v) => {
+                    let s = vector(v).filter(|s| s.len() == 2);
+                    let s =
+                        s.ok_or_else(|| bad("square size must be a number or 2 numbers".into()))?;
+                    [s[0], s[1]]
+                }
+                None => [1.0; 2],
+            };
+            let centre = matches!(argument(args, "center", 1), Some(Value::Bool(true)));
+            let [x0, y0] = if centre {
+                size.map(|s| -s / 2.0)
+            } else {
+                [0.0; 2]
+            };
+            let [x1, y1] = [x0 + size[0], y0 + size[1]];
+            // OpenSCAD makes nothing of a square without area, or a circle without radius.
+            let positive = size.iter().all(|s| *s > 0.0 && s.is_finite());
+            flat(
+                &positive
+                    .then(|| vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+                    .into_iter()
+                    .collect::<Vec<_>>(),
+            )
+        }
+        "circle" => {
+            let r = number(argument(args, "r", 0)).unwrap_or(1.0);
+            let positive = r > 0.0 && r.is_finite();
+            flat(
+                &positive
+                    .then(|| circle(r, fragments(args).count(r)))
+                    .into_iter()
+                    .collect::<Vec<_>>(),
+            )
+        }
+        "polygon" => {
+            let points = points_2d(argument(args, "points", 0))
+                .ok_or_else(|| bad("polygon points must be 2-vectors".into()))?;
+            let outlines = match argument(args, "paths", 1) {
+                None | Some(Value::Undef) => vec![points],
+                Some(Value::Vector(paths)) => {
+                    let mut outlines = Vec::with_capacity(paths.len());
+                    for path in paths {
+                        let indices = vector(path).ok_or_else(|| {
+                            bad("polygon paths must be lists of point indices".into())
+                        })?;
+                        let mut outline = Vec::with_capacity(indices.len());
+                        for i in indices {
+                            if i < 0.0 || i.fract() != 0.0 || i as usize >= points.len() {
+                                return Err(bad(format!(
+                                    "polygon path index {i} is not one of its {} points",
+                                    points.len()
+                                )));
+                            }
+                            outline.push(points[i as usize]);
+                        }
+                        outlines.push(outline);
+                    }
+                    outlines
+                }
+                Some(_) => return Err(bad("polygon paths must be lists of point indices".into())),
+            };
+            flat(&outlines)
+        }
+        "linear_extrude" | "rotate_extrude" => {
+            let profile = union(children)?;
+            if profile.dimension == Dimension::Solid {
+                return Err(OpenScadError {
+                    line: profile.line,
+                    message: format!("{name} sweeps 2D shapes, not solids"),
+                });
+            }
+            let extrusion = if name == "linear_extrude" {
+                linear_extrude(args).map_err(bad)?
+            } else {
+                Extrusion::Rotate(RotateExtrude {
+                    angle: number(argument(args, "angle", usize::MAX)).unwrap_or(360.0),
+                    fragments: fragments(args),
+                })
+            };
+            solid(Node {
+                kind: NodeKind::Extrude {
+                    profile: Box::new(profile.node),
+                    extrusion,
+                    name: format!("{name} at line {line}"),
+                },
+                transform: None,
+                material: None,
+            })
         }
         other => {
             return Err(bad(format!(
@@ -476,22 +666,55 @@ fn leaf(mesh: Mesh, name: &str, line: usize) -> Node {
     Node::mesh(mesh, format!("{name} at line {line}"))
 }
 
-/// OpenSCAD's fragment count for a circle of radius `r` under the node's `$fn`, `$fa`,
-/// `$fs` (`Calc::get_fragments_from_r`).
-fn fragments(r: f64, args: &[(Option<String>, Value)]) -> u32 {
-    let get =
-        |name: &str, default: f64| number(argument(args, name, usize::MAX)).unwrap_or(default);
-    let (fn_, fa, fs) = (get("$fn", 0.0), get("$fa", 12.0), get("$fs", 2.0));
-    if r < 1.0 / f64::from(1u32 << 20) {
-        return 3;
+/// `linear_extrude`'s parameters; `slices` defaults to OpenSCAD's rule for the shape's
+/// twist and scale, decided when the profile is known.
+fn linear_extrude(args: &[(Option<String>, Value)]) -> Result<Extrusion, String> {
+    let height = number(argument(args, "height", 0)).unwrap_or(100.0);
+    let scale = match argument(args, "scale", usize::MAX) {
+        None | Some(Value::Undef) => [1.0; 2],
+        Some(Value::Number(s)) => [*s; 2],
+        Some(v) => {
+            let s = vector(v).filter(|s| s.len() == 2);
+            let s = s.ok_or("linear_extrude scale must be a number or 2 numbers")?;
+            [s[0], s[1]]
+        }
+    };
+    // OpenSCAD truncates slices and ignores fewer than 1, and clamps negative scales to 0.
+    let slices = number(argument(args, "slices", usize::MAX)).filter(|&s| s >= 1.0);
+    let scale = scale.map(|s: f64| s.max(0.0));
+    Ok(Extrusion::Linear(LinearExtrude {
+        height,
+        center: matches!(
+            argument(args, "center", usize::MAX),
+            Some(Value::Bool(true))
+        ),
+        twist: number(argument(args, "twist", usize::MAX)).unwrap_or(0.0),
+        slices: slices.map(|s| s as u32),
+        scale,
+        fragments: fragments(args),
+    }))
+}
+
+/// A list of 2-vectors.
+fn points_2d(value: Option<&Value>) -> Option<Vec<[f64; 2]>> {
+    match value? {
+        Value::Vector(items) => items
+            .iter()
+            .map(|p| vector(p).filter(|p| p.len() == 2).map(|p| [p[0], p[1]]))
+            .collect(),
+        _ => None,
     }
-    if fn_ > 0.0 {
-        return if fn_ >= 3.0 { fn_ as u32 } else { 3 };
+}
+
+/// The node's `$fn`, `$fa`, `$fs`.
+fn fragments(args: &[(Option<String>, Value)]) -> Fragments {
+    let get = |name: &str| number(argument(args, name, usize::MAX));
+    let default = Fragments::default();
+    Fragments {
+        fn_: get("$fn").unwrap_or(default.fn_),
+        fa: get("$fa").unwrap_or(default.fa),
+        fs: get("$fs").unwrap_or(default.fs),
     }
-    (360.0 / fa)
-        .min(r * 2.0 * std::f64::consts::PI / fs)
-        .max(5.0)
-        .ceil() as u32
 }
 
 /// OpenSCAD's cylinder (or cone, where a radius is 0) between heights `z1` and `z2`.
@@ -539,11 +762,11 @@ mod tests {
     #[test]
     fn fragments_follow_openscad() {
         let args = |fn_: f64| vec![(Some("$fn".to_owned()), Value::Number(fn_))];
-        assert_eq!(fragments(10.0, &args(0.0)), 30); // min(360/12, 2π·10/2 = 31.4)
-        assert_eq!(fragments(1.0, &args(0.0)), 5);
-        assert_eq!(fragments(1.0, &args(7.0)), 7);
-        assert_eq!(fragments(1.0, &args(2.0)), 3);
-        assert_eq!(fragments(1e-7, &args(50.0)), 3);
+        assert_eq!(fragments(&args(0.0)).count(10.0), 30); // min(360/12, 2π·10/2 = 31.4)
+        assert_eq!(fragments(&args(0.0)).count(1.0), 5);
+        assert_eq!(fragments(&args(7.0)).count(1.0), 7);
+        assert_eq!(fragments(&args(2.0)).count(1.0), 3);
+        assert_eq!(fragments(&args(50.0)).count(1e-7), 3);
         assert_eq!(sin_degrees(30.0), 0.5);
         assert_eq!(cos_degrees(90.0), 0.0);
         assert_eq!(cos_degrees(180.0), -1.0);

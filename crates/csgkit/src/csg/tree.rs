@@ -14,6 +14,8 @@ use crate::exact::{
 };
 use crate::mesh::{Mesh, MeshParts};
 
+use super::extrude::{ExtrudeError, Extrusion, Profile};
+
 /// An affine map, row-major: `x' = M·x + t` for rows `[m0, m1, m2, t]`.
 pub type Affine = [[f64; 4]; 3];
 
@@ -47,6 +49,18 @@ pub enum NodeKind {
     },
     /// An operation on the children (a difference: the first minus the others).
     Apply(Operation, Vec<Node>),
+    /// The solid swept by a 2D shape: `profile` is a tree of [`prism`]s (2D booleans are
+    /// booleans of prisms), evaluated on its own before the sweep.
+    ///
+    /// [`prism`]: super::extrude::prism
+    Extrude {
+        /// The 2D shape, as a tree of prisms.
+        profile: Box<Node>,
+        /// How it is swept.
+        extrusion: Extrusion,
+        /// Where it came from, for errors.
+        name: String,
+    },
 }
 
 impl Node {
@@ -82,6 +96,14 @@ pub enum CsgError {
         /// The leaf it applies to.
         leaf: String,
     },
+    /// A 2D shape could not be swept.
+    #[error("{leaf}: {error}")]
+    Extrude {
+        /// The extrusion node.
+        leaf: String,
+        /// What is wrong.
+        error: ExtrudeError,
+    },
     /// The exact engine refused a leaf, or the operation failed.
     #[error("{}{error}", leaf.as_ref().map(|l| format!("{l}: ")).unwrap_or_default())]
     Boolean {
@@ -109,7 +131,12 @@ pub struct Evaluation {
 /// [`CsgError::BadTransform`] for a singular or non-finite transform, [`CsgError::Boolean`]
 /// (naming the leaf where the engine names an operand) otherwise.
 pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, CsgError> {
-    let mut flat = Flattened::default();
+    let mut flat = Flattened {
+        options,
+        leaves: Vec::new(),
+        names: Vec::new(),
+        operations: 0,
+    };
     let expression = flat.visit(root, IDENTITY, None)?;
     if flat.leaves.is_empty() {
         // A tree without leaves (an OpenSCAD model that only echoes) is the empty solid.
@@ -146,14 +173,14 @@ fn operand_of(error: &BooleanError) -> Option<usize> {
 }
 
 /// The leaves of a tree, transformed and painted, in depth-first order.
-#[derive(Default)]
-struct Flattened {
+struct Flattened<'a, 'b> {
+    options: &'a BooleanOptions<'b>,
     leaves: Vec<Mesh>,
     names: Vec<String>,
     operations: usize,
 }
 
-impl Flattened {
+impl Flattened<'_, '_> {
     fn visit(
         &mut self,
         node: &Node,
@@ -166,12 +193,22 @@ impl Flattened {
         };
         let material = node.material.as_deref().or(material);
         match &node.kind {
-            NodeKind::Mesh { mesh, name } => {
-                let leaf = placed(mesh, transform, material)
-                    .ok_or_else(|| CsgError::BadTransform { leaf: name.clone() })?;
-                self.leaves.push(leaf);
-                self.names.push(name.clone());
-                Ok(Expression::Operand(self.leaves.len() - 1))
+            NodeKind::Mesh { mesh, name } => self.leaf(mesh, name, transform, material),
+            NodeKind::Extrude {
+                profile,
+                extrusion,
+                name,
+            } => {
+                let prisms = evaluate(profile, self.options)?;
+                self.operations += prisms.operations;
+                let profile = Profile::of_prisms(&prisms.result.mesh);
+                let solid = extrusion
+                    .solid(&profile)
+                    .map_err(|error| CsgError::Extrude {
+                        leaf: name.clone(),
+                        error,
+                    })?;
+                self.leaf(&solid, name, transform, material)
             }
             NodeKind::Apply(op, children) => {
                 self.operations += 1;
@@ -181,6 +218,22 @@ impl Flattened {
                 Ok(Expression::Apply(*op, children))
             }
         }
+    }
+
+    /// Adds `mesh` as the next operand, moved and painted.
+    fn leaf(
+        &mut self,
+        mesh: &Mesh,
+        name: &str,
+        transform: Affine,
+        material: Option<&str>,
+    ) -> Result<Expression, CsgError> {
+        let leaf = placed(mesh, transform, material).ok_or_else(|| CsgError::BadTransform {
+            leaf: name.to_owned(),
+        })?;
+        self.leaves.push(leaf);
+        self.names.push(name.to_owned());
+        Ok(Expression::Operand(self.leaves.len() - 1))
     }
 }
 

@@ -72,6 +72,21 @@ use crate::kernel::{Axis, Point, Point3, Sign, orient2d_projected, orient3d_plan
 #[cfg(test)]
 mod tests;
 
+/// More points than this on one triangle are inserted in coordinate order and get Delaunay
+/// flips before its segments go in.
+const DELAUNAY_BEFORE_SEGMENTS: usize = 8;
+
+/// The Delaunay phase's choice for the quadrilateral `[a, b, c, d]` (see
+/// [`Cdt::flip_while`]): flip `b c` to `a d` when `d` is inside the circle of `a b c` and no
+/// triangle of the pair is flat.
+fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
+    let flat =
+        is_flat(pa, pb, pc) || is_flat(pb, pd, pc) || is_flat(pa, pb, pd) || is_flat(pa, pd, pc);
+    let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
+    let inside = robust::incircle(to_coord(pa), to_coord(pb), to_coord(pc), to_coord(pd));
+    !flat && inside * turn > 0.0
+}
+
 /// "No triangle" (a boundary edge's neighbour) and "not constrained".
 const NONE: u32 = u32::MAX;
 
@@ -392,8 +407,26 @@ impl<'a> Cdt<'a> {
             rim: Vec::new(),
             ids: Vec::new(),
         };
-        for p in 3..n {
+        let mut order: Vec<u32> = (3..n).collect();
+        if points.len() > DELAUNAY_BEFORE_SEGMENTS {
+            // Each location walks from the last new triangle: in coordinate order the walks
+            // stay short.
+            let coords = cdt.coords();
+            order.sort_by(|&a, &b| {
+                coords[a as usize]
+                    .partial_cmp(&coords[b as usize])
+                    .expect("finite")
+            });
+        }
+        for p in order {
             cdt.insert_point(p)?;
+        }
+        if points.len() > DELAUNAY_BEFORE_SEGMENTS {
+            // Points inserted without flips leave long thin triangles, which every segment
+            // then crosses by the hundred (the overlay of two coplanar fans puts hundreds of
+            // points on one triangle); Delaunay flips first keep the crossings few.
+            let coords = cdt.coords();
+            cdt.flip_while(&coords, 16 * cdt.tris.len() + 64, delaunay_flip);
         }
         for (s, seg) in segments.iter().enumerate() {
             cdt.insert_segment(s as u32, seg[0], seg[1])?;
@@ -423,29 +456,26 @@ impl<'a> Cdt<'a> {
         if self.tris.len() < 2 {
             return;
         }
-        let k = self.proj.drop.index();
-        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-        let coords: Vec<[f64; 2]> = (0..self.alias.len() as u32)
-            .map(|id| {
-                let p = self.point(id).approx();
-                [p[u], p[v]]
-            })
-            .collect();
+        let coords = self.coords();
         let budget = 16 * self.tris.len() + 64;
-        self.flip_while(&coords, budget, |[pa, pb, pc, pd]| {
-            let flat = is_flat(pa, pb, pc)
-                || is_flat(pb, pd, pc)
-                || is_flat(pa, pb, pd)
-                || is_flat(pa, pd, pc);
-            let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
-            let inside = robust::incircle(to_coord(pa), to_coord(pb), to_coord(pc), to_coord(pd));
-            !flat && inside * turn > 0.0
-        });
+        self.flip_while(&coords, budget, delaunay_flip);
         self.flip_while(&coords, budget, |[pa, pb, pc, pd]| {
             let now = usize::from(is_flat(pa, pb, pc)) + usize::from(is_flat(pb, pd, pc));
             let after = usize::from(is_flat(pa, pb, pd)) + usize::from(is_flat(pa, pd, pc));
             after < now
         });
+    }
+
+    /// f64 approximations of every vertex in the 2D frame, for choices of shape.
+    fn coords(&self) -> Vec<[f64; 2]> {
+        let k = self.proj.drop.index();
+        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+        (0..self.alias.len() as u32)
+            .map(|id| {
+                let p = self.point(id).approx();
+                [p[u], p[v]]
+            })
+            .collect()
     }
 
     /// Flips edges while `wanted` says so and the budget lasts: for the quadrilateral
@@ -560,6 +590,22 @@ impl<'a> Cdt<'a> {
     /// Step 2 for one point.
     fn insert_point(&mut self, p: u32) -> Result<(), SplitError> {
         match self.locate(p)? {
+            Location::OnVertex(w) if w > p => {
+                // Out of order (coordinate order): the earlier point is the one kept, so the
+                // vertex already in place takes its id.
+                for tri in &mut self.tris {
+                    tri.v.iter_mut().filter(|v| **v == w).for_each(|v| *v = p);
+                }
+                self.vtri[p as usize] = self.vtri[w as usize];
+                self.vtri[w as usize] = NONE;
+                for kept in self.alias.iter_mut().filter(|k| **k == w) {
+                    *kept = p;
+                }
+                for pair in self.merged.iter_mut().filter(|pair| pair[1] == w) {
+                    pair[1] = p;
+                }
+                self.merged.push([w, p]);
+            }
             Location::OnVertex(w) => {
                 self.alias[p as usize] = w;
                 self.merged.push([p, w]);
