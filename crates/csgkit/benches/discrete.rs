@@ -4,8 +4,8 @@
 //! harness compares real models with other voxelisers (see `benches/README.md`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use csgkit::primitives::icosphere;
 use csgkit::discrete::{DiscretizeOptions, Grid, discretize};
+use csgkit::primitives::icosphere;
 
 fn voxelize(c: &mut Criterion) {
     let sphere = icosphere([0.5; 3], 0.45, 6);

@@ -6,8 +6,8 @@
 //! self-intersection check (its cost is the check's, measured by `csgkit check`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use csgkit::primitives::icosphere;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::primitives::icosphere;
 
 fn spheres(c: &mut Criterion) {
     let mut group = c.benchmark_group("exact");

@@ -2,11 +2,11 @@
 //! leaves touch and coincide, and random trees of moved primitives.
 
 use csgkit::Mesh;
-use csgkit::primitives::{cuboid, icosphere};
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Affine, Node, NodeKind, evaluate};
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::FaceMode;
+use csgkit::primitives::{cuboid, icosphere};
 
 use crate::util::{assert_close, assert_no_self_intersection, rotation};
 

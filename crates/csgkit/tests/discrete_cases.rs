@@ -9,8 +9,8 @@
 use std::collections::BTreeSet;
 
 use csgkit::Mesh;
-use csgkit::primitives::{cuboid, icosphere};
 use csgkit::discrete::{BoolOp, DiscretizeError, DiscretizeOptions, Grid, Solid, discretize};
+use csgkit::primitives::{cuboid, icosphere};
 use robust::{Coord, orient2d};
 
 use crate::util::{polygon_normal, repo_data, shared_data};

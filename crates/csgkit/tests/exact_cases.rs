@@ -2,9 +2,9 @@
 //! disjoint operands, with exact volumes.
 
 use csgkit::Mesh;
-use csgkit::primitives::cuboid;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::FaceMode;
+use csgkit::primitives::cuboid;
 
 use crate::util::{assert_no_self_intersection, box_of_quads, polygon_normal};
 

@@ -2,9 +2,9 @@
 //! with the fewest vertices; faces nothing cut come back as read; provenance composes
 //! through chained booleans.
 
-use csgkit::primitives::{cylinder, icosphere};
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::FaceMode;
+use csgkit::primitives::{cylinder, icosphere};
 use csgkit::{Encoding, Format, Mesh};
 
 use crate::util::{assert_close, assert_no_self_intersection, box_of_quads, polygon_normal};

@@ -10,9 +10,9 @@
 //! float area is compared to a relative 1e-12.
 
 use csgkit::Mesh;
-use csgkit::primitives::cuboid;
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::ortho::{MeshOptions, box_union, random_grid_boxes};
+use csgkit::primitives::cuboid;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 

@@ -13,8 +13,8 @@
 
 use std::f64::consts::TAU;
 
-use csgkit::primitives::{cuboid, icosphere};
 use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
+use csgkit::primitives::{cuboid, icosphere};
 use csgkit::{Mesh, self_intersections};
 use num_rational::BigRational;
 use proptest::prelude::*;

@@ -11,9 +11,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use csgkit::Mesh;
-use csgkit::primitives::{cuboid, cylinder};
 use csgkit::exact::{BooleanOptions, Operation, boolean};
 use csgkit::mesh::BoundingBox;
+use csgkit::primitives::{cuboid, cylinder};
 
 use crate::util::{
     assert_no_self_intersection, bbox, diagonal, load, rotation, shared_data, transformed,

@@ -22,8 +22,8 @@ use std::path::Path;
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
-use csgkit::primitives::{cuboid, cylinder, icosphere};
 use csgkit::exact::{Boolean, BooleanError, BooleanOptions, Operation, WindingRule, boolean};
+use csgkit::primitives::{cuboid, cylinder, icosphere};
 use csgkit::{Mesh, WriteOptions, read_mesh, self_intersections, write_mesh};
 use num_rational::BigRational;
 use proptest::prelude::*;

@@ -2,9 +2,9 @@
 //! collinear corners and self-overlapping polygons, in the self-intersection check and the
 //! exact engine, with exact volumes (issue 9).
 
-use csgkit::primitives::cuboid;
 use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
 use csgkit::mesh::{Overlap, PolygonError, are_collinear, triangulate_faces};
+use csgkit::primitives::cuboid;
 use csgkit::{FaceId, Mesh, self_intersections};
 use num_rational::BigRational;
 use num_traits::Zero;

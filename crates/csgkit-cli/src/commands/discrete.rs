@@ -25,11 +25,11 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use csgkit::Mesh;
-use csgkit::primitives::{cuboid, torus};
 use csgkit::discrete::{
     BoolOp, DiscretizeOptions, FillRule, Grid, MaterialSolid, Rounding, Solid, discretize_parts,
     discretize_with_progress, labelled_mesh,
 };
+use csgkit::primitives::{cuboid, torus};
 use serde_json::json;
 
 /// Arguments of `csgkit discrete`.

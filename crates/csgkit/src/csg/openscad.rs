@@ -21,10 +21,10 @@
 //! - A sphere has `(n + 1) / 2` rings at polar angles `180° · (i + ½) / rings`.
 //! - Angles are in degrees with OpenSCAD's exact values at multiples of 30° and 45°.
 
-use crate::primitives::{circle, cuboid, uv_sphere};
 use super::tree::{Affine, Node};
 use crate::exact::Operation;
 use crate::mesh::Mesh;
+use crate::primitives::{circle, cuboid, uv_sphere};
 
 /// Why a `.csg` file could not be read: the line and what is wrong there.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -30,7 +30,6 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::primitives::{cuboid, cylinder, uv_sphere};
 use super::tree::{Affine, Node, NodeKind};
 use crate::exact::Operation;
 use crate::io::{ReadError, read_mesh};
@@ -38,6 +37,7 @@ use crate::mesh::Mesh;
 use crate::ortho::{
     MeshOptions, VoxOptions, box_union, box_union_with_materials, parse_boxes, read_vox,
 };
+use crate::primitives::{cuboid, cylinder, uv_sphere};
 
 /// Why a scene could not be read. Every variant names the file or the JSON path at fault.
 #[derive(Debug, thiserror::Error)]

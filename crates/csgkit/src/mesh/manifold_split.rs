@@ -613,9 +613,9 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::primitives::{cuboid, icosphere, torus};
     use crate::mesh::{MeshParts, OperandId, Topology, analyze_topology, measure, weld};
     use crate::ortho::{MeshOptions, box_union};
+    use crate::primitives::{cuboid, icosphere, torus};
 
     /// The unit cube with its minimum corner at `at`.
     fn unit_cube(at: [f64; 3]) -> Mesh {

@@ -1,6 +1,6 @@
 use super::*;
-use crate::primitives::cuboid;
 use crate::discrete::{Grid, Solid};
+use crate::primitives::cuboid;
 
 fn concat(a: &Mesh, b: &Mesh) -> Mesh {
     let mut positions = a.positions().to_vec();
