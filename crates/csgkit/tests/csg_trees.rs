@@ -1,12 +1,12 @@
 //! CSG trees in one exact pass: JSON scenes against chains of binary booleans, trees whose
 //! leaves touch and coincide, and random trees of moved primitives.
 
-use csgkit::Mesh;
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Affine, Node, NodeKind, evaluate};
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::mesh::FaceMode;
 use csgkit::primitives::{cuboid, icosphere};
+use csgkit::{Mesh, Operation};
 
 use crate::util::{assert_close, assert_no_self_intersection, rotation};
 

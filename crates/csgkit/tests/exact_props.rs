@@ -13,9 +13,9 @@
 
 use std::f64::consts::TAU;
 
-use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanError, BooleanOptions, boolean};
 use csgkit::primitives::{cuboid, icosphere};
-use csgkit::{Mesh, self_intersections};
+use csgkit::{Mesh, Operation, self_intersections};
 use num_rational::BigRational;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};

@@ -24,12 +24,12 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use csgkit::Mesh;
 use csgkit::discrete::{
-    BoolOp, DiscretizeOptions, FillRule, Grid, MaterialSolid, Rounding, Solid, discretize_parts,
+    DiscretizeOptions, FillRule, Grid, MaterialSolid, Rounding, Solid, discretize_parts,
     discretize_with_progress, labelled_mesh,
 };
 use csgkit::primitives::{cuboid, torus};
+use csgkit::{Mesh, Operation};
 use serde_json::json;
 
 /// Arguments of `csgkit discrete`.
@@ -141,18 +141,21 @@ enum Round {
 /// Runs a discrete subcommand.
 pub fn run(args: &DiscreteArgs) -> anyhow::Result<ExitCode> {
     match &args.command {
-        DiscreteCommand::Union(a) => run_op(&a.operands, &a.common, BoolOp::Union, "union"),
-        DiscreteCommand::Intersection(a) => {
-            run_op(&a.operands, &a.common, BoolOp::Intersection, "intersection")
-        }
+        DiscreteCommand::Union(a) => run_op(&a.operands, &a.common, Operation::Union, "union"),
+        DiscreteCommand::Intersection(a) => run_op(
+            &a.operands,
+            &a.common,
+            Operation::Intersection,
+            "intersection",
+        ),
         DiscreteCommand::Difference(a) => {
-            run_op(&a.operands, &a.common, BoolOp::Difference, "difference")
+            run_op(&a.operands, &a.common, Operation::Difference, "difference")
         }
-        DiscreteCommand::Xor(a) => run_op(&a.operands, &a.common, BoolOp::Xor, "xor"),
+        DiscreteCommand::Xor(a) => run_op(&a.operands, &a.common, Operation::Xor, "xor"),
         DiscreteCommand::Voxelize(a) => run_op(
             std::slice::from_ref(&a.input),
             &a.common,
-            BoolOp::Union,
+            Operation::Union,
             "voxelize",
         ),
         DiscreteCommand::Demo(a) => run_demo(a),
@@ -176,7 +179,7 @@ fn parse_operand(text: &str, default: Option<f64>) -> anyhow::Result<(PathBuf, f
 fn run_op(
     operands: &[String],
     common: &Common,
-    op: BoolOp,
+    op: Operation,
     name: &str,
 ) -> anyhow::Result<ExitCode> {
     let parsed = operands
@@ -215,7 +218,7 @@ fn run_op(
             let own = discretize_parts(mesh, grid, levels[n], options)
                 .with_context(|| format!("cannot discretise {label}"))?;
             let whole: Vec<Solid> = own.iter().map(|p| p.solid.clone()).collect();
-            let solid = Solid::op_all(&whole, BoolOp::Union)?.expect("a mesh has a part");
+            let solid = Solid::op_all(&whole, Operation::Union)?.expect("a mesh has a part");
             parts.push(own);
             solid
         } else {

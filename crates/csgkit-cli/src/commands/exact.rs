@@ -19,10 +19,10 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 use csgkit::exact::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, Stage, WindingRule, boolean,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Stage, WindingRule, boolean,
 };
 use csgkit::mesh::{FaceMode, MeshReport};
-use csgkit::{Format, Mesh, WriteError, WriteOptions, write_mesh};
+use csgkit::{Format, Mesh, Operation, WriteError, WriteOptions, write_mesh};
 use serde_json::json;
 
 use super::{load, warn_if_manifold_lost};
@@ -150,7 +150,7 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
         .collect::<anyhow::Result<Vec<Mesh>>>()?;
     let read_seconds = clock.elapsed().as_secs_f64();
     let result = compute(op, args, format, &meshes)
-        .with_context(|| format!("cannot compute the {}", op_name(op)))?;
+        .with_context(|| format!("cannot compute the {}", op.name()))?;
     warn_if_manifold_lost(args.manifold, &args.output);
     let clock = Instant::now();
     let options = WriteOptions {
@@ -212,15 +212,6 @@ fn name_operand(err: BooleanError, inputs: &[PathBuf]) -> anyhow::Error {
     }
 }
 
-/// The command's name for `op`, as in "cannot compute the union".
-fn op_name(op: Operation) -> &'static str {
-    match op {
-        Operation::Union => "union",
-        Operation::Intersection => "intersection",
-        Operation::Difference => "difference",
-    }
-}
-
 /// The snake_case name of a stage ("ingest", "validate", …), for the bars and the `stages`
 /// object of `--stats`. It is derived from the variant's name, so a stage the library adds
 /// later ([`Stage`] is non-exhaustive) gets its own name without a change here.
@@ -273,7 +264,7 @@ fn stats_json(
     let stages = stages_json(s);
     let validate_seconds = validate_seconds(s);
     json!({
-        "command": op_name(op),
+        "command": op.name(),
         "inputs": inputs,
         "self_check": !args.no_self_check,
         "manifold": args.manifold,

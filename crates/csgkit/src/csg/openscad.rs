@@ -22,7 +22,7 @@
 //! - Angles are in degrees with OpenSCAD's exact values at multiples of 30° and 45°.
 
 use super::tree::{Affine, Node};
-use crate::exact::Operation;
+use crate::Operation;
 use crate::mesh::Mesh;
 use crate::primitives::{circle, cuboid, uv_sphere};
 

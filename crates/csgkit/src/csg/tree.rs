@@ -9,8 +9,9 @@
 //! ([`boolean_expression`]): no chain of binary booleans, so no rounding between the
 //! operations of a tree.
 
+use crate::Operation;
 use crate::exact::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, Operation, boolean_expression,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, boolean_expression,
 };
 use crate::mesh::{Mesh, MeshParts};
 

@@ -53,9 +53,10 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use rayon::prelude::*;
 use robust::{Coord, Coord3D, orient2d, orient3d};
 
-use super::column::{BoolOp, Column, Interval};
+use super::column::{Column, Interval};
 use super::grid::{Grid, MAX_LEVEL};
 use super::tile::Solid;
+use crate::Operation;
 use crate::mesh::Mesh;
 
 /// Which winding numbers count as inside.
@@ -424,8 +425,8 @@ impl Lattice {
         let base = Column::from_intervals(base);
         let column = match self.rounding {
             Rounding::Centre => base,
-            Rounding::Inner => base.op(&special, BoolOp::Difference),
-            Rounding::Outer => base.op(&special, BoolOp::Union),
+            Rounding::Inner => base.op(&special, Operation::Difference),
+            Rounding::Outer => base.op(&special, Operation::Union),
         };
         Ok(scale(&column, self.level))
     }

@@ -36,7 +36,7 @@ mod tile;
 mod to_boxes;
 
 pub use brick::{BRICK_SIDE, Brick, BrickError};
-pub use column::{BoolOp, Column, ColumnError, Interval};
+pub use column::{Column, ColumnError, Interval};
 pub use discretize::{
     DiscretizeError, DiscretizeOptions, FillRule, Rounding, discretize, discretize_with_progress,
 };

@@ -6,83 +6,12 @@ use std::time::Instant;
 use crate::kernel::Point3;
 use crate::mesh::{FaceMode, Mesh, PolygonError};
 
+use crate::Operation;
+
 use super::assemble::Rounded;
+use super::expression::Expression;
 use super::winding::{self, WindingRule};
 use super::{assemble, broad, certify, classify, ingest, reconstruct, select, simplify, subdivide};
-
-/// A boolean operation on solids.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Operation {
-    /// Points in any operand.
-    Union,
-    /// Points in every operand.
-    Intersection,
-    /// Points in the first operand and in none of the others.
-    Difference,
-}
-
-impl Operation {
-    /// Every operation, in declaration order.
-    pub const ALL: [Operation; 3] = [
-        Operation::Union,
-        Operation::Intersection,
-        Operation::Difference,
-    ];
-
-    /// Whether a point with the given inside flags (one per operand) is in the result.
-    pub fn contains(self, inside: impl ExactSizeIterator<Item = bool>) -> bool {
-        let mut inside = inside;
-        match self {
-            Operation::Union => inside.any(|x| x),
-            Operation::Intersection => inside.len() > 0 && inside.all(|x| x),
-            Operation::Difference => inside.next() == Some(true) && !inside.any(|x| x),
-        }
-    }
-}
-
-/// Which points a boolean keeps, as a formula over which operands contain them: one
-/// [`Operation`] on all operands, or a tree of operations (a CSG tree) whose leaves are the
-/// operands. The select stage evaluates it on the inside flags of every patch, so a whole
-/// tree is computed in one arrangement and rounded once.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub enum Expression {
-    /// The points of operand `k`.
-    Operand(usize),
-    /// The operation on the children's point sets (a difference: the first minus the others).
-    Apply(Operation, Vec<Expression>),
-}
-
-impl Expression {
-    /// `op` on operands `0..count`.
-    pub fn of(op: Operation, count: usize) -> Expression {
-        Expression::Apply(op, (0..count).map(Expression::Operand).collect())
-    }
-
-    /// Whether a point with the given inside flags (one per operand) is in the result.
-    ///
-    /// # Panics
-    /// If an operand index is out of range of `inside`.
-    pub fn contains(&self, inside: &[bool]) -> bool {
-        match self {
-            Expression::Operand(k) => inside[*k],
-            Expression::Apply(op, children) => {
-                op.contains(children.iter().map(|c| c.contains(inside)))
-            }
-        }
-    }
-
-    /// The highest operand index plus one (0 for an expression without operands).
-    pub fn operand_count(&self) -> usize {
-        match self {
-            Expression::Operand(k) => k + 1,
-            Expression::Apply(_, children) => children
-                .iter()
-                .map(Expression::operand_count)
-                .max()
-                .unwrap_or(0),
-        }
-    }
-}
 
 /// A stage of the pipeline, as reported to a [`ProgressFn`] and in [`BooleanStats`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -319,7 +248,8 @@ fn format_edges(edges: &[[u32; 2]]) -> String {
 /// How many offending items an error lists.
 pub(crate) const ERROR_EXAMPLES: usize = 5;
 
-/// Computes `op` on `operands`: union or intersection of all, or the first minus all others.
+/// Computes `op` on `operands`: union or intersection of all, the first minus all others, or
+/// the points in an odd number of them (see [`Operation`]).
 ///
 /// Every decision is exact (see the [module docs](super)). Empty operands are the empty set.
 ///
@@ -327,7 +257,8 @@ pub(crate) const ERROR_EXAMPLES: usize = 5;
 /// Two unit cubes sharing a face make a 2 × 1 × 1 box.
 /// ```
 /// use csgkit::primitives::cuboid;
-/// use csgkit::exact::{BooleanOptions, Operation, boolean};
+/// use csgkit::exact::{BooleanOptions, boolean};
+/// use csgkit::Operation;
 /// let a = cuboid([0.0; 3], [1.0; 3]);
 /// let b = cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]);
 /// let result = boolean(Operation::Union, &[&a, &b], &BooleanOptions::default()).unwrap();
@@ -354,7 +285,8 @@ pub fn boolean(
 /// (A ∪ B) − C for three unit cubes in a row, C overlapping B by half.
 /// ```
 /// use csgkit::primitives::cuboid;
-/// use csgkit::exact::{BooleanOptions, Expression, Operation, boolean_expression};
+/// use csgkit::exact::{BooleanOptions, Expression, boolean_expression};
+/// use csgkit::Operation;
 /// let cubes: Vec<_> = [0.0, 1.0, 1.5].iter().map(|&x| cuboid([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0])).collect();
 /// let union = Expression::Apply(Operation::Union, vec![Expression::Operand(0), Expression::Operand(1)]);
 /// let tree = Expression::Apply(Operation::Difference, vec![union, Expression::Operand(2)]);

@@ -46,6 +46,7 @@ mod boolean;
 mod broad;
 mod certify;
 mod classify;
+mod expression;
 mod ingest;
 pub mod intersect;
 mod reconstruct;
@@ -58,9 +59,10 @@ mod subdivide;
 mod winding;
 
 pub use boolean::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, Operation, ProgressFn, Stage,
-    boolean, boolean_expression,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, ProgressFn, Stage, boolean,
+    boolean_expression,
 };
+pub use expression::Expression;
 pub use intersect::{
     Contact, Feature, Intersection, PointKey, Triangle, TriangleEdge, intersect_triangles,
 };

@@ -49,7 +49,8 @@ use crate::kernel::{
 };
 use crate::mesh::union_find::UnionFind;
 
-use super::boolean::{BooleanError, Expression};
+use super::boolean::BooleanError;
+use super::expression::Expression;
 use super::ingest::{Input, NO_NEIGHBOUR};
 use super::intersect::Triangle;
 use super::select::Kept;
