@@ -32,6 +32,7 @@ pub mod mesh;
 mod operation;
 pub mod ortho;
 pub mod primitives;
+mod progress;
 
 pub use exact::{
     Contact, Feature, Intersection, PointKey, SelfIntersections, Split, SplitError, Triangle,
@@ -44,3 +45,4 @@ pub use io::{
 };
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
 pub use operation::Operation;
+pub use progress::{Callback, Cancelled, Progress, Report, Stage};

@@ -22,7 +22,7 @@ use std::path::Path;
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
-use csgkit::exact::{Boolean, BooleanError, BooleanOptions, WindingRule, boolean};
+use csgkit::exact::{Boolean, BooleanError, BooleanOptions, InvalidOperand, WindingRule, boolean};
 use csgkit::primitives::{cuboid, cylinder, icosphere};
 use csgkit::{Mesh, Operation, WriteOptions, read_mesh, self_intersections, write_mesh};
 use num_rational::BigRational;
@@ -109,7 +109,7 @@ fn certified(what: &str, op: Operation, operands: &[&Mesh], options: &BooleanOpt
     result
 }
 
-fn with_rule(winding: WindingRule) -> BooleanOptions<'static> {
+fn with_rule(winding: WindingRule) -> BooleanOptions {
     BooleanOptions {
         winding,
         ..BooleanOptions::default()
@@ -519,11 +519,11 @@ fn repair_refuses_the_open_two_boxes() {
     let boundary = manifest_count(&data, name, "boundary_e");
     assert!(boundary > 0, "the manifest says {name} is open");
     match boolean(Union, &[&mesh], &BooleanOptions::default()) {
-        Err(BooleanError::NotClosed {
+        Err(BooleanError::InvalidOperand(InvalidOperand::NotClosed {
             operand,
             count,
             first,
-        }) => {
+        })) => {
             assert_eq!(operand, 0);
             assert_eq!(
                 count as u64, boundary,

@@ -14,12 +14,12 @@ use clap::Args;
 use csgkit::csg::openscad::parse_openscad_csg;
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Node, NodeKind, evaluate};
-use csgkit::exact::{BooleanOptions, Stage};
+use csgkit::exact::BooleanOptions;
 use csgkit::{Format, WriteError, WriteOptions, write_mesh};
 use serde_json::json;
 
-use super::exact::{FaceArgs, stage_name, stages_json, validate_seconds};
-use crate::progress::StageBar;
+use super::exact::{FaceArgs, stages_json, validate_seconds};
+use crate::progress::with_bar;
 
 /// Below this many leaf faces the evaluation ends before a progress bar would help.
 const PROGRESS_MIN_FACES: usize = 20_000;
@@ -51,20 +51,10 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
     let clock = Instant::now();
     let tree = read_tree(&args.scene)?;
     let read_seconds = clock.elapsed().as_secs_f64();
-    let bar = StageBar::new(leaf_faces(&tree), PROGRESS_MIN_FACES);
-    let show = |stage: Stage, done: usize, total: usize| match &bar {
-        Some(bar) => bar.update(&stage_name(stage), done, total),
-        None => true,
-    };
-    let options = args.faces.apply(
-        format,
-        BooleanOptions {
-            progress: Some(&show),
-            ..BooleanOptions::default()
-        },
-    );
-    let evaluation = evaluate(&tree, &options);
-    bar.inspect(StageBar::finish);
+    let options = args.faces.apply(format, BooleanOptions::default());
+    let evaluation = with_bar(leaf_faces(&tree), PROGRESS_MIN_FACES, |progress| {
+        evaluate(&tree, &options, progress)
+    });
     let evaluation =
         evaluation.with_context(|| format!("cannot evaluate {}", args.scene.display()))?;
     let clock = Instant::now();

@@ -14,6 +14,7 @@ use crate::exact::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, boolean_expression,
 };
 use crate::mesh::{Mesh, MeshParts};
+use crate::progress::Progress;
 
 /// An affine map, row-major: `x' = M·x + t` for rows `[m0, m1, m2, t]`.
 pub type Affine = [[f64; 4]; 3];
@@ -104,12 +105,17 @@ pub struct Evaluation {
     pub operations: usize,
 }
 
-/// Evaluates `root` in one exact pass (see the module docs).
+/// Evaluates `root` in one exact pass (see the module docs), reporting the exact engine's
+/// stages to `progress`.
 ///
 /// # Errors
 /// [`CsgError::BadTransform`] for a singular or non-finite transform, [`CsgError::Boolean`]
-/// (naming the leaf where the engine names an operand) otherwise.
-pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, CsgError> {
+/// (naming the leaf where the engine names an operand) otherwise, including a cancellation.
+pub fn evaluate(
+    root: &Node,
+    options: &BooleanOptions,
+    progress: &Progress,
+) -> Result<Evaluation, CsgError> {
     let mut flat = Flattened::default();
     let expression = flat.visit(root, IDENTITY, None)?;
     if flat.leaves.is_empty() {
@@ -124,10 +130,11 @@ pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, Csg
         });
     }
     let operands: Vec<&Mesh> = flat.leaves.iter().collect();
-    let result = boolean_expression(&expression, &operands, options).map_err(|error| {
-        let leaf = operand_of(&error).and_then(|k| flat.names.get(k).cloned());
-        CsgError::Boolean { leaf, error }
-    })?;
+    let result =
+        boolean_expression(&expression, &operands, options, progress).map_err(|error| {
+            let leaf = operand_of(&error).and_then(|k| flat.names.get(k).cloned());
+            CsgError::Boolean { leaf, error }
+        })?;
     Ok(Evaluation {
         result,
         leaves: flat.leaves.len(),
@@ -138,10 +145,7 @@ pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, Csg
 /// The operand an engine error names.
 fn operand_of(error: &BooleanError) -> Option<usize> {
     match error {
-        BooleanError::NonFinite { operand, .. }
-        | BooleanError::InvalidPolygon { operand, .. }
-        | BooleanError::NotClosed { operand, .. }
-        | BooleanError::Inverted { operand, .. } => Some(*operand),
+        BooleanError::InvalidOperand(invalid) => Some(invalid.operand()),
         _ => None,
     }
 }
@@ -271,7 +275,7 @@ mod tests {
             transform: Some(mirror),
             ..Node::apply(Operation::Union, vec![leaf, Node::mesh(unit, "b")])
         };
-        let out = evaluate(&tree, &BooleanOptions::default()).unwrap();
+        let out = evaluate(&tree, &BooleanOptions::default(), &Progress::default()).unwrap();
         let report = out.result.mesh.report();
         assert!(report.is_valid_solid());
         assert_eq!(report.measures.volume, 2.0);
@@ -284,6 +288,7 @@ mod tests {
         let out = evaluate(
             &Node::apply(Operation::Union, Vec::new()),
             &BooleanOptions::default(),
+            &Progress::default(),
         );
         assert!(out.unwrap().result.mesh.is_empty());
     }
@@ -299,7 +304,7 @@ mod tests {
             transform: Some(flat),
             ..Node::mesh(cuboid([0.0; 3], [1.0; 3]), "the cube")
         };
-        let err = evaluate(&leaf, &BooleanOptions::default()).unwrap_err();
+        let err = evaluate(&leaf, &BooleanOptions::default(), &Progress::default()).unwrap_err();
         assert_eq!(
             err.to_string(),
             "the cube: its transform is singular or not finite"
