@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use csgkit::exact::Operation;
+use csgkit::Operation;
 
 use crate::commands::{self, boxes, demo, exact};
 

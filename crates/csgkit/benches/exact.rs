@@ -6,7 +6,8 @@
 //! self-intersection check (its cost is the check's, measured by `csgkit check`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::Operation;
+use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::primitives::icosphere;
 
 fn spheres(c: &mut Criterion) {

@@ -2,7 +2,8 @@
 //! exact_timing -- OP A B [C ...]` (OP = union, intersection or difference). Prints the stage
 //! times, the counts and whether the result is a valid solid, with its volume.
 
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::Operation;
+use csgkit::exact::{BooleanOptions, boolean};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use csgkit::ortho::{MeshOptions, box_union_timed, random_grid_boxes};
+use csgkit::{Progress, Stage};
 
 fn main() {
     let sizes: Vec<usize> = std::env::args()
@@ -19,7 +20,9 @@ fn main() {
     for n in sizes {
         let boxes = random_grid_boxes(n, 0x5eed);
         let start = Instant::now();
-        let (brep, stages) = box_union_timed(&boxes, None, None).expect("random boxes are finite");
+        let (brep, stages) =
+            box_union_timed(&boxes, None, &Progress::default()).expect("random boxes are finite");
+        let seconds = |stage: Stage| (stages.iter().find(|s| s.0 == stage)).map_or(0.0, |s| s.1);
         let mesh_start = Instant::now();
         let mesh = brep
             .to_mesh(MeshOptions::default())
@@ -32,9 +35,9 @@ fn main() {
             brep.vertices.len(),
             brep.faces.len(),
             mesh.face_count(),
-            stages.rank,
-            stages.sweep,
-            stages.loops,
+            seconds(Stage::Rank),
+            seconds(Stage::Sweep),
+            seconds(Stage::Loops),
         );
         points.push(((n as f64).ln(), total.ln()));
     }

@@ -1,4 +1,5 @@
-//! csgkit computes boolean operations (union, intersection, difference) on 3D solids,
+//! csgkit computes boolean operations ([`Operation`]: union, intersection, difference,
+//! symmetric difference) on 3D solids,
 //! exactly: no epsilon takes part in any topological decision.
 //!
 //! # Overview
@@ -28,8 +29,10 @@ mod index;
 pub mod io;
 pub mod kernel;
 pub mod mesh;
+mod operation;
 pub mod ortho;
 pub mod primitives;
+mod progress;
 
 pub use exact::{
     Contact, Feature, Intersection, PointKey, SelfIntersections, Split, SplitError, Triangle,
@@ -41,3 +44,5 @@ pub use io::{
     read_mesh, read_mesh_from_bytes, write_mesh, write_mesh_to_bytes,
 };
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
+pub use operation::Operation;
+pub use progress::{Callback, Cancelled, Progress, Report, Stage};

@@ -1,12 +1,12 @@
 //! CSG trees in one exact pass: JSON scenes against chains of binary booleans, trees whose
 //! leaves touch and coincide, and random trees of moved primitives.
 
-use csgkit::Mesh;
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Affine, Node, NodeKind, evaluate};
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::mesh::FaceMode;
 use csgkit::primitives::{cuboid, icosphere};
+use csgkit::{Mesh, Operation, Progress};
 
 use crate::util::{assert_close, assert_no_self_intersection, rotation};
 
@@ -15,7 +15,7 @@ use crate::util::{assert_close, assert_no_self_intersection, rotation};
 fn chained(node: &Node) -> Mesh {
     match &node.kind {
         NodeKind::Mesh { .. } | NodeKind::Extrude { .. } => {
-            evaluate(node, &BooleanOptions::default())
+            evaluate(node, &BooleanOptions::default(), &Progress::default())
                 .unwrap()
                 .result
                 .mesh
@@ -33,7 +33,7 @@ fn chained(node: &Node) -> Mesh {
 }
 
 fn one_pass(node: &Node) -> Mesh {
-    let mesh = evaluate(node, &BooleanOptions::default())
+    let mesh = evaluate(node, &BooleanOptions::default(), &Progress::default())
         .unwrap()
         .result
         .mesh;
@@ -77,7 +77,7 @@ fn a_json_scene_matches_the_chain_of_binary_booleans() {
     let chain = chained(&tree);
     assert!(volume(&once) > 1.0);
     assert_close(volume(&once), volume(&chain), 1e-9, 1.0, "scene volume");
-    let evaluation = evaluate(&tree, &BooleanOptions::default()).unwrap();
+    let evaluation = evaluate(&tree, &BooleanOptions::default(), &Progress::default()).unwrap();
     assert_eq!((evaluation.leaves, evaluation.operations), (5, 3));
 }
 
@@ -99,7 +99,10 @@ fn a_union_of_27_touching_cubes_is_one_cube() {
         merge_coplanar: true,
         ..BooleanOptions::default()
     };
-    let merged = evaluate(&tree, &options).unwrap().result.mesh;
+    let merged = evaluate(&tree, &options, &Progress::default())
+        .unwrap()
+        .result
+        .mesh;
     assert_eq!((merged.face_count(), merged.vertex_count()), (6, 8));
     assert!(merged.report().is_valid_solid());
 }

@@ -8,9 +8,9 @@
 
 use std::collections::BTreeSet;
 
-use csgkit::Mesh;
-use csgkit::discrete::{BoolOp, DiscretizeError, DiscretizeOptions, Grid, Solid, discretize};
+use csgkit::discrete::{DiscretizeError, DiscretizeOptions, Grid, Solid, discretize};
 use csgkit::primitives::{cuboid, icosphere};
+use csgkit::{Mesh, Operation};
 use robust::{Coord, orient2d};
 
 use crate::util::{polygon_normal, repo_data, shared_data};
@@ -244,14 +244,14 @@ fn voxel_set(s: &Solid) -> BTreeSet<(i32, i32, i32)> {
 }
 
 fn apply(
-    op: BoolOp,
+    op: Operation,
     a: &BTreeSet<(i32, i32, i32)>,
     b: &BTreeSet<(i32, i32, i32)>,
 ) -> BTreeSet<(i32, i32, i32)> {
     match op {
-        BoolOp::Union => a.union(b).copied().collect(),
-        BoolOp::Intersection => a.intersection(b).copied().collect(),
-        BoolOp::Difference => a.difference(b).copied().collect(),
+        Operation::Union => a.union(b).copied().collect(),
+        Operation::Intersection => a.intersection(b).copied().collect(),
+        Operation::Difference => a.difference(b).copied().collect(),
         _ => a.symmetric_difference(b).copied().collect(),
     }
 }
@@ -276,7 +276,7 @@ fn mixed_resolution_booleans_equal_voxel_set_operations() {
     .unwrap();
     let (va, vb) = (voxel_set(&a), voxel_set(&b));
     assert!(!va.is_empty() && !vb.is_empty());
-    for op in BoolOp::ALL {
+    for op in Operation::ALL {
         let r = a.op(&b, op).unwrap();
         r.check_invariants().unwrap();
         let expect = apply(op, &va, &vb);
@@ -475,7 +475,7 @@ fn data_meshes_at_mixed_resolutions_combine_voxelwise() {
     )
     .unwrap();
     let (va, vb) = (voxel_set(&coarse), voxel_set(&fine));
-    for op in BoolOp::ALL {
+    for op in Operation::ALL {
         let r = coarse.op(&fine, op).unwrap();
         r.check_invariants().unwrap();
         assert_eq!(voxel_set(&r), apply(op, &va, &vb), "{op:?}");
@@ -687,7 +687,7 @@ fn discrete_results_keep_the_material_of_the_solid_behind_each_face() {
     assert_eq!(operands[0].len(), 2, "one part per closed material");
     let whole = |parts: &[csgkit::discrete::MaterialSolid]| {
         let solids: Vec<Solid> = parts.iter().map(|p| p.solid.clone()).collect();
-        Solid::op_all(&solids, BoolOp::Union).unwrap().unwrap()
+        Solid::op_all(&solids, Operation::Union).unwrap().unwrap()
     };
     let (a, b) = (whole(&operands[0]), whole(&operands[1]));
 

@@ -1,14 +1,14 @@
 //! The degenerate suite of `design/exact.md`: touching, coplanar, identical, nested and
 //! disjoint operands, with exact volumes.
 
-use csgkit::Mesh;
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::mesh::FaceMode;
 use csgkit::primitives::cuboid;
+use csgkit::{Mesh, Operation};
 
 use crate::util::{assert_no_self_intersection, box_of_quads, polygon_normal};
 
-use Operation::{Difference, Intersection, Union};
+use Operation::{Difference, Intersection, Union, Xor};
 
 /// Runs `op`, checks the result is a closed, oriented solid without self-intersection (the
 /// certified output), and returns its volume.
@@ -37,7 +37,8 @@ fn assert_volume(actual: f64, expected: f64, what: &str) {
     );
 }
 
-/// Volumes of ∪, ∩, − for two operands, checked against the expected values.
+/// Volumes of ∪, ∩, − for two operands, checked against the expected values, and of ⊕
+/// against vol(A ∪ B) − vol(A ∩ B).
 fn check_all(a: &Mesh, b: &Mesh, union: f64, intersection: f64, difference: f64) {
     assert_volume(volume_of(Union, &[a, b]), union, "union");
     assert_volume(
@@ -46,6 +47,51 @@ fn check_all(a: &Mesh, b: &Mesh, union: f64, intersection: f64, difference: f64)
         "intersection",
     );
     assert_volume(volume_of(Difference, &[a, b]), difference, "difference");
+    assert_volume(volume_of(Xor, &[a, b]), union - intersection, "xor");
+}
+
+/// vol(A ⊕ B) = vol(A) + vol(B) − 2 vol(A ∩ B), where the cubes overlap in a corner, where
+/// they touch along a coplanar face (the shared face bounds neither piece), and where they
+/// overlap with four coplanar face pairs (coincident regions are kept once, or not at all).
+/// The overlapping pieces A − B and B − A meet along edges only, which the result keeps as
+/// non-manifold edges of a valid solid.
+#[test]
+fn xor_is_the_union_minus_the_intersection() {
+    let cases = [
+        (
+            "overlapping",
+            unit_cube_at(0.0, 0.0, 0.0),
+            unit_cube_at(0.5, 0.5, 0.5),
+        ),
+        (
+            "touching",
+            unit_cube_at(0.0, 0.0, 0.0),
+            unit_cube_at(1.0, 0.0, 0.0),
+        ),
+        (
+            "coplanar",
+            cuboid([0.0; 3], [2.0; 3]),
+            cuboid([1.0, 0.0, 0.0], [3.0, 2.0, 2.0]),
+        ),
+    ];
+    for (what, a, b) in cases {
+        let (va, vb) = (volume_of(Union, &[&a]), volume_of(Union, &[&b]));
+        let intersection = volume_of(Intersection, &[&a, &b]);
+        let xor = volume_of(Xor, &[&a, &b]);
+        assert_volume(xor, va + vb - 2.0 * intersection, what);
+        assert_volume(volume_of(Xor, &[&b, &a]), xor, &format!("{what}, swapped"));
+    }
+    // Three operands: the points in one or in all three.
+    let (a, b, c) = (
+        unit_cube_at(0.0, 0.0, 0.0),
+        unit_cube_at(0.5, 0.0, 0.0),
+        unit_cube_at(0.25, 0.0, 0.0),
+    );
+    assert_volume(
+        volume_of(Xor, &[&a, &b, &c]),
+        0.25 + 0.25 + 0.5,
+        "three in a row",
+    );
 }
 
 #[test]

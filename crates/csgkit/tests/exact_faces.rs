@@ -2,10 +2,10 @@
 //! with the fewest vertices; faces nothing cut come back as read; provenance composes
 //! through chained booleans.
 
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::mesh::FaceMode;
 use csgkit::primitives::{cylinder, icosphere};
-use csgkit::{Encoding, Format, Mesh};
+use csgkit::{Encoding, Format, Mesh, Operation};
 
 use crate::util::{assert_close, assert_no_self_intersection, box_of_quads, polygon_normal};
 

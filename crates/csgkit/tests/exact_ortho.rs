@@ -9,10 +9,10 @@
 //! which stay in their planes and so do not change the exact area or volume; `mesh.report()`'s
 //! float area is compared to a relative 1e-12.
 
-use csgkit::Mesh;
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::ortho::{MeshOptions, box_union, random_grid_boxes};
 use csgkit::primitives::cuboid;
+use csgkit::{Mesh, Operation};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 

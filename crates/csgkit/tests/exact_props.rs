@@ -13,9 +13,9 @@
 
 use std::f64::consts::TAU;
 
-use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanError, BooleanOptions, InvalidOperand, boolean};
 use csgkit::primitives::{cuboid, icosphere};
-use csgkit::{Mesh, self_intersections};
+use csgkit::{Mesh, Operation, self_intersections};
 use num_rational::BigRational;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -413,11 +413,11 @@ fn open_cube(min: [f64; 3]) -> Mesh {
 fn assert_second_not_closed(a: &Mesh, b: &Mesh) {
     for op in Operation::ALL {
         match error_of(op, &[a, b]) {
-            BooleanError::NotClosed {
+            BooleanError::InvalidOperand(InvalidOperand::NotClosed {
                 operand,
                 count,
                 mut first,
-            } => {
+            }) => {
                 assert_eq!((operand, count), (1, 4), "{op:?}");
                 for edge in &mut first {
                     edge.sort_unstable();
@@ -449,17 +449,17 @@ fn non_finite_vertex_is_named() {
     let infinite = with_positions(&a, |p| p[3][2] = f64::INFINITY);
     assert_eq!(
         error_of(Union, &[&a, &nan]),
-        BooleanError::NonFinite {
+        BooleanError::InvalidOperand(InvalidOperand::NonFinite {
             operand: 1,
             vertex: 5
-        }
+        })
     );
     assert_eq!(
         error_of(Difference, &[&infinite, &a]),
-        BooleanError::NonFinite {
+        BooleanError::InvalidOperand(InvalidOperand::NonFinite {
             operand: 0,
             vertex: 3
-        }
+        })
     );
 }
 
@@ -473,7 +473,7 @@ fn inward_operand_is_inverted() {
     };
     for op in Operation::ALL {
         match error_of(op, &[&a, &inward]) {
-            BooleanError::Inverted { operand, volume } => {
+            BooleanError::InvalidOperand(InvalidOperand::Inverted { operand, volume }) => {
                 assert_eq!(operand, 1, "{op:?}");
                 assert_eq!(volume, -1.0, "{op:?}: the cube's signed volume");
             }

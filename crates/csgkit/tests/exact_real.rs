@@ -10,10 +10,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use csgkit::Mesh;
-use csgkit::exact::{BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::mesh::BoundingBox;
 use csgkit::primitives::{cuboid, cylinder};
+use csgkit::{Mesh, Operation};
 
 use crate::util::{
     assert_no_self_intersection, bbox, diagonal, load, rotation, shared_data, transformed,

@@ -22,9 +22,9 @@ use std::path::Path;
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
-use csgkit::exact::{Boolean, BooleanError, BooleanOptions, Operation, WindingRule, boolean};
+use csgkit::exact::{Boolean, BooleanError, BooleanOptions, InvalidOperand, WindingRule, boolean};
 use csgkit::primitives::{cuboid, cylinder, icosphere};
-use csgkit::{Mesh, WriteOptions, read_mesh, self_intersections, write_mesh};
+use csgkit::{Mesh, Operation, WriteOptions, read_mesh, self_intersections, write_mesh};
 use num_rational::BigRational;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -34,7 +34,7 @@ use crate::util::{
     translated,
 };
 
-use Operation::{Difference, Intersection, Union};
+use Operation::{Difference, Intersection, Union, Xor};
 
 /// Relative tolerance of volume comparisons.
 ///
@@ -109,7 +109,7 @@ fn certified(what: &str, op: Operation, operands: &[&Mesh], options: &BooleanOpt
     result
 }
 
-fn with_rule(winding: WindingRule) -> BooleanOptions<'static> {
+fn with_rule(winding: WindingRule) -> BooleanOptions {
     BooleanOptions {
         winding,
         ..BooleanOptions::default()
@@ -519,11 +519,11 @@ fn repair_refuses_the_open_two_boxes() {
     let boundary = manifest_count(&data, name, "boundary_e");
     assert!(boundary > 0, "the manifest says {name} is open");
     match boolean(Union, &[&mesh], &BooleanOptions::default()) {
-        Err(BooleanError::NotClosed {
+        Err(BooleanError::InvalidOperand(InvalidOperand::NotClosed {
             operand,
             count,
             first,
-        }) => {
+        })) => {
             assert_eq!(operand, 0);
             assert_eq!(
                 count as u64, boundary,
@@ -676,9 +676,11 @@ proptest! {
         let union = volume(&certified("pair", Union, &[&a, &b], &options).mesh);
         let intersection = volume(&certified("pair", Intersection, &[&a, &b], &options).mesh);
         let difference = volume(&certified("pair", Difference, &[&a, &b], &options).mesh);
+        let xor = volume(&certified("pair", Xor, &[&a, &b], &options).mesh);
         let scale = va + vb;
         assert_close(union + intersection, va + vb, VOLUME_TOLERANCE, scale, "vol(A∪B) + vol(A∩B) vs vol(A) + vol(B)");
         assert_close(difference, va - intersection, VOLUME_TOLERANCE, scale, "vol(A−B) vs vol(A) − vol(A∩B)");
+        assert_close(xor, va + vb - 2.0 * intersection, VOLUME_TOLERANCE, scale, "vol(A⊕B) vs vol(A) + vol(B) − 2 vol(A∩B)");
     }
 
     /// Six steps, each combining the previous result with a new primitive: every result is a
@@ -700,6 +702,7 @@ proptest! {
                 Union => after >= before.max(other) - slack && after <= before + other + slack,
                 Intersection => after >= -slack && after <= before.min(other) + slack,
                 Difference => after >= -slack && after <= before + slack,
+                Xor => after >= -slack && after <= before + other + slack,
             };
             assert!(in_range, "{what}: {op:?} of {before} and {other} gave {after}");
         }

@@ -640,23 +640,24 @@ fn the_output_does_not_depend_on_the_thread_count() {
 fn progress_counts_every_plane_and_can_cancel() {
     use std::sync::Mutex;
 
-    use csgkit::ortho::{OrthoError, Stage, box_union_timed};
+    use csgkit::ortho::{OrthoError, box_union_timed};
+    use csgkit::{Cancelled, Progress, Report, Stage};
     let boxes = csgkit::ortho::random_grid_boxes(500, 3);
     let seen = Mutex::new(Vec::new());
-    let record = |stage: Stage, done: usize, total: usize| {
-        seen.lock().unwrap().push((stage, done, total));
+    let record = |report: Report| {
+        seen.lock().unwrap().push(report);
         true
     };
-    let (brep, _) = box_union_timed(&boxes, None, Some(&record)).unwrap();
+    let (brep, _) = box_union_timed(&boxes, None, &Progress::new(&record)).unwrap();
     assert_eq!(brep, box_union(&boxes).unwrap());
     let seen = seen.into_inner().unwrap();
     for stage in [Stage::Sweep, Stage::Loops] {
-        let reports: Vec<_> = seen.iter().filter(|r| r.0 == stage).collect();
-        let total = reports[0].2;
+        let reports: Vec<_> = seen.iter().filter(|r| r.stage == stage).collect();
+        let total = reports[0].total;
         assert_eq!(reports.len(), total, "{stage:?} reports once per task");
-        assert!(reports.iter().any(|r| r.1 == total));
+        assert!(reports.iter().any(|r| r.done == total));
     }
-    let stop = |_: Stage, done: usize, _: usize| done < 3;
-    let cancelled = box_union_timed(&boxes, None, Some(&stop));
-    assert_eq!(cancelled.unwrap_err(), OrthoError::Cancelled);
+    let stop = |report: Report| report.done < 3;
+    let cancelled = box_union_timed(&boxes, None, &Progress::new(&stop));
+    assert_eq!(cancelled.unwrap_err(), OrthoError::Cancelled(Cancelled));
 }

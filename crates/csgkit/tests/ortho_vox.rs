@@ -72,7 +72,8 @@ fn every_shared_vox_model_gives_a_closed_mesh_of_the_right_volume() {
 /// of its own material only outside the model.
 #[test]
 fn a_vox_palette_survives_a_discrete_union() {
-    use csgkit::discrete::{BoolOp, DiscretizeOptions, Grid, Solid, discretize_parts, label};
+    use csgkit::Operation;
+    use csgkit::discrete::{DiscretizeOptions, Grid, Solid, discretize_parts, label};
     let Some(data) = shared_data() else { return };
     let read = read_vox(
         &std::fs::read(data.join("voxels/T-Rex.vox")).unwrap(),
@@ -94,7 +95,7 @@ fn a_vox_palette_survives_a_discrete_union() {
     assert_eq!(operands[0].len(), solids.len(), "one part per colour");
     let whole = |parts: &[csgkit::discrete::MaterialSolid]| {
         let solids: Vec<Solid> = parts.iter().map(|p| p.solid.clone()).collect();
-        Solid::op_all(&solids, BoolOp::Union).unwrap().unwrap()
+        Solid::op_all(&solids, Operation::Union).unwrap().unwrap()
     };
     let (a, b) = (whole(&operands[0]), whole(&operands[1]));
     let union = label(&a.union(&b).unwrap(), &operands).unwrap();

@@ -2,10 +2,10 @@
 //! collinear corners and self-overlapping polygons, in the self-intersection check and the
 //! exact engine, with exact volumes (issue 9).
 
-use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanError, BooleanOptions, InvalidOperand, boolean};
 use csgkit::mesh::{Overlap, PolygonError, are_collinear, triangulate_faces};
 use csgkit::primitives::cuboid;
-use csgkit::{FaceId, Mesh, self_intersections};
+use csgkit::{FaceId, Mesh, Operation, self_intersections};
 use num_rational::BigRational;
 use num_traits::Zero;
 
@@ -210,10 +210,10 @@ fn issue_9_a_bow_tie_is_an_error_naming_the_face() {
     .unwrap_err();
     assert_eq!(
         err,
-        BooleanError::InvalidPolygon {
+        BooleanError::InvalidOperand(InvalidOperand::InvalidPolygon {
             operand: 1,
             error: PolygonError::SelfOverlapping { face, overlap }
-        }
+        })
     );
     assert_eq!(
         err.to_string(),

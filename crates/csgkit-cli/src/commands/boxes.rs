@@ -11,12 +11,12 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 use csgkit::ortho::{
-    BRep, MeshOptions, MeshOutput, Stage, VoxOptions, box_union_per_material, box_union_timed,
+    BRep, MeshOptions, MeshOutput, VoxOptions, box_union_per_material, box_union_timed,
     parse_boxes, per_material_mesh, read_vox,
 };
-use csgkit::{Mesh, Rgba, WriteOptions, write_mesh};
+use csgkit::{Mesh, Rgba, Stage, WriteOptions, write_mesh};
 
-use crate::progress::StageBar;
+use crate::progress::{seconds_of, with_bar};
 
 /// Below this many boxes the union ends before a progress bar would help.
 const PROGRESS_MIN_BOXES: usize = 50_000;
@@ -65,7 +65,7 @@ struct Input {
 #[derive(Default)]
 struct Report {
     read_seconds: f64,
-    stages: csgkit::ortho::StageSeconds,
+    stage_seconds: Vec<(Stage, f64)>,
     mesh_seconds: f64,
     write_seconds: f64,
     vertices: usize,
@@ -147,18 +147,15 @@ fn build_mesh(
         (Some(materials), true) => {
             let clock = Instant::now();
             let solids = box_union_per_material(&input.boxes, materials)?;
-            report.stages.sweep = clock.elapsed().as_secs_f64();
+            report.stage_seconds = vec![(Stage::Sweep, clock.elapsed().as_secs_f64())];
             solids
         }
         (materials, _) => {
-            let bar = StageBar::new(input.boxes.len(), PROGRESS_MIN_BOXES);
-            let show = |stage: Stage, done: usize, total: usize| match &bar {
-                Some(bar) => bar.update(stage_name(stage), done, total),
-                None => true,
-            };
-            let (brep, stages) = box_union_timed(&input.boxes, materials.as_deref(), Some(&show))?;
-            bar.inspect(StageBar::finish);
-            report.stages = stages;
+            let (brep, stage_seconds) =
+                with_bar(input.boxes.len(), PROGRESS_MIN_BOXES, |progress| {
+                    box_union_timed(&input.boxes, materials.as_deref(), progress)
+                })?;
+            report.stage_seconds = stage_seconds;
             vec![(0, brep)]
         }
     };
@@ -210,19 +207,11 @@ fn stats_json(input: &Input, r: &Report, mesh: &Mesh, op_seconds: f64) -> serde_
         "output_vertices": mesh.vertex_count(),
         "output_faces": mesh.face_count(),
         "read_seconds": r.read_seconds,
-        "rank_seconds": r.stages.rank,
-        "sweep_seconds": r.stages.sweep,
-        "loops_seconds": r.stages.loops,
+        "rank_seconds": seconds_of(&r.stage_seconds, Stage::Rank),
+        "sweep_seconds": seconds_of(&r.stage_seconds, Stage::Sweep),
+        "loops_seconds": seconds_of(&r.stage_seconds, Stage::Loops),
         "mesh_seconds": r.mesh_seconds,
         "write_seconds": r.write_seconds,
         "op_seconds": op_seconds,
     })
-}
-
-/// The bar label of a stage of the box union.
-fn stage_name(stage: Stage) -> &'static str {
-    match stage {
-        Stage::Sweep => "sweep",
-        _ => "loops",
-    }
 }

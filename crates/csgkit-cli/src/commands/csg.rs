@@ -1,10 +1,12 @@
 //! `csgkit csg SCENE -o OUT`: a CSG tree evaluated in one exact pass.
 //!
-//! The scene is a JSON file ([`csgkit::csg::scene`]); its tree is flattened and evaluated by
+//! The scene is a JSON file ([`csgkit::csg::scene`]) or an OpenSCAD tree ([`csgkit::csg::openscad`]); its tree is flattened and evaluated by
 //! the exact engine in one arrangement of all leaves ([`csgkit::csg::evaluate`]), rounded
-//! once. `--stats` prints one JSON object on stdout: `op_seconds` (the evaluation without the
-//! self-intersection check and file I/O), the seconds of every stage, and the leaf and
-//! operation counts.
+//! once. `--stats` prints one JSON object on stdout: `op_seconds` (the tree's boolean without
+//! the self-intersection check and file I/O), `evaluate_seconds` (everything between reading
+//! and writing: placing leaves, the 2D booleans and sweeps of extrusions, the check and the
+//! boolean), the seconds of every stage of the tree's boolean, and the leaf and operation
+//! counts.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -14,12 +16,12 @@ use clap::Args;
 use csgkit::csg::openscad::parse_openscad_csg;
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Node, NodeKind, evaluate};
-use csgkit::exact::{BooleanOptions, Stage};
+use csgkit::exact::BooleanOptions;
 use csgkit::{Format, WriteError, WriteOptions, write_mesh};
 use serde_json::json;
 
-use super::exact::{FaceArgs, stage_name, stages_json, validate_seconds};
-use crate::progress::StageBar;
+use super::exact::{FaceArgs, stages_json, validate_seconds};
+use crate::progress::with_bar;
 
 /// Below this many leaf faces the evaluation ends before a progress bar would help.
 const PROGRESS_MIN_FACES: usize = 20_000;
@@ -51,22 +53,14 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
     let clock = Instant::now();
     let tree = read_tree(&args.scene)?;
     let read_seconds = clock.elapsed().as_secs_f64();
-    let bar = StageBar::new(leaf_faces(&tree), PROGRESS_MIN_FACES);
-    let show = |stage: Stage, done: usize, total: usize| match &bar {
-        Some(bar) => bar.update(&stage_name(stage), done, total),
-        None => true,
-    };
-    let options = args.faces.apply(
-        format,
-        BooleanOptions {
-            progress: Some(&show),
-            ..BooleanOptions::default()
-        },
-    );
-    let evaluation = evaluate(&tree, &options);
-    bar.inspect(StageBar::finish);
+    let options = args.faces.apply(format, BooleanOptions::default());
+    let clock = Instant::now();
+    let evaluation = with_bar(leaf_faces(&tree), PROGRESS_MIN_FACES, |progress| {
+        evaluate(&tree, &options, progress)
+    });
     let evaluation =
         evaluation.with_context(|| format!("cannot evaluate {}", args.scene.display()))?;
+    let evaluate_seconds = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let options = WriteOptions {
         format: Some(format),
@@ -94,6 +88,7 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
             "read_seconds": read_seconds,
             "validate_seconds": validate_seconds(s),
             "op_seconds": s.op_seconds(),
+            "evaluate_seconds": evaluate_seconds,
             "write_seconds": write_seconds,
         });
         println!("{stats}");

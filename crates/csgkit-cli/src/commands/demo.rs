@@ -10,13 +10,13 @@ use std::time::Instant;
 
 use anyhow::Context;
 use clap::Args;
-use csgkit::exact::{BooleanError, BooleanOptions, Operation, boolean};
+use csgkit::exact::{BooleanError, BooleanOptions, boolean};
 use csgkit::ortho::{
     MeshOptions, box_union, box_union_per_material, box_union_with_materials, per_material_mesh,
     random_grid_boxes,
 };
 use csgkit::primitives::{cuboid, cylinder, icosphere, torus};
-use csgkit::{Mesh, WriteOptions, write_mesh};
+use csgkit::{Mesh, Operation, WriteOptions, write_mesh};
 
 /// Arguments of `csgkit demo`.
 #[derive(Args, Debug, Clone)]

@@ -17,20 +17,21 @@
 //! JSON object on stdout with counts and seconds per stage; `op_seconds` covers
 //! discretisation, the booleans and the output conversion, without file I/O.
 
-use std::io::{IsTerminal, Write as _};
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Mutex;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use csgkit::Mesh;
 use csgkit::discrete::{
-    BoolOp, DiscretizeOptions, FillRule, Grid, MaterialSolid, Rounding, Solid, discretize_parts,
-    discretize_with_progress, labelled_mesh,
+    CombineError, Combined, DiscreteStats, DiscretizeOptions, FillRule, Grid, MaterialSolid,
+    Rounding, Solid, combine, labelled_mesh,
 };
 use csgkit::primitives::{cuboid, torus};
+use csgkit::{Mesh, Operation, Stage};
 use serde_json::json;
+
+use crate::progress::{seconds_of, with_bar};
 
 /// Arguments of `csgkit discrete`.
 #[derive(clap::Args, Debug)]
@@ -141,18 +142,21 @@ enum Round {
 /// Runs a discrete subcommand.
 pub fn run(args: &DiscreteArgs) -> anyhow::Result<ExitCode> {
     match &args.command {
-        DiscreteCommand::Union(a) => run_op(&a.operands, &a.common, BoolOp::Union, "union"),
-        DiscreteCommand::Intersection(a) => {
-            run_op(&a.operands, &a.common, BoolOp::Intersection, "intersection")
-        }
+        DiscreteCommand::Union(a) => run_op(&a.operands, &a.common, Operation::Union, "union"),
+        DiscreteCommand::Intersection(a) => run_op(
+            &a.operands,
+            &a.common,
+            Operation::Intersection,
+            "intersection",
+        ),
         DiscreteCommand::Difference(a) => {
-            run_op(&a.operands, &a.common, BoolOp::Difference, "difference")
+            run_op(&a.operands, &a.common, Operation::Difference, "difference")
         }
-        DiscreteCommand::Xor(a) => run_op(&a.operands, &a.common, BoolOp::Xor, "xor"),
+        DiscreteCommand::Xor(a) => run_op(&a.operands, &a.common, Operation::Xor, "xor"),
         DiscreteCommand::Voxelize(a) => run_op(
             std::slice::from_ref(&a.input),
             &a.common,
-            BoolOp::Union,
+            Operation::Union,
             "voxelize",
         ),
         DiscreteCommand::Demo(a) => run_demo(a),
@@ -176,7 +180,7 @@ fn parse_operand(text: &str, default: Option<f64>) -> anyhow::Result<(PathBuf, f
 fn run_op(
     operands: &[String],
     common: &Common,
-    op: BoolOp,
+    op: Operation,
     name: &str,
 ) -> anyhow::Result<ExitCode> {
     let parsed = operands
@@ -203,73 +207,66 @@ fn run_op(
             Round::Outer => Rounding::Outer,
         },
     };
-    let t_op = Instant::now();
-    // With materials, each operand is one solid per material, and the result's faces take
-    // the material of the operand behind them (discrete::label).
-    let with_materials = meshes.iter().any(|m| m.face_materials().is_some());
-    let mut solids = Vec::with_capacity(meshes.len());
-    let mut parts = Vec::with_capacity(meshes.len());
-    for (n, mesh) in meshes.iter().enumerate() {
-        let label = parsed[n].0.display().to_string();
-        let solid = if with_materials {
-            let own = discretize_parts(mesh, grid, levels[n], options)
-                .with_context(|| format!("cannot discretise {label}"))?;
-            let whole: Vec<Solid> = own.iter().map(|p| p.solid.clone()).collect();
-            let solid = Solid::op_all(&whole, BoolOp::Union)?.expect("a mesh has a part");
-            parts.push(own);
-            solid
-        } else {
-            let bar = Progress::new(&label, common.no_progress);
-            let solid =
-                discretize_with_progress(mesh, grid, levels[n], options, &|f| bar.report(f))
-                    .with_context(|| format!("cannot discretise {label}"))?;
-            bar.finish();
-            solid
-        };
-        solids.push(solid);
-    }
-    let discretize_seconds = t_op.elapsed().as_secs_f64();
-    let t_bool = Instant::now();
-    let result = Solid::op_all(&solids, op)?.expect("at least one operand");
-    let labelled = with_materials
-        .then(|| csgkit::discrete::label(&result, &parts))
-        .transpose()?;
-    let boolean_seconds = t_bool.elapsed().as_secs_f64();
-    let report = write_result(&result, labelled.as_deref(), &common.output, common.mesh)?;
+    let operands: Vec<&Mesh> = meshes.iter().collect();
+    let min_size = if common.no_progress { usize::MAX } else { 0 };
+    let faces = meshes.iter().map(Mesh::face_count).sum();
+    let combined = with_bar(faces, min_size, |progress| {
+        combine(op, &operands, grid, &levels, options, progress)
+    })
+    .map_err(|err| match err {
+        CombineError::Operand { operand, error } => anyhow::Error::new(error)
+            .context(format!("cannot discretise {}", parsed[operand].0.display())),
+        err => err.into(),
+    })?;
+    let Combined {
+        solid: result,
+        parts,
+        stats,
+    } = combined;
+    let report = write_result(&result, parts.as_deref(), &common.output, common.mesh)?;
     if common.stats {
-        let inputs: Vec<_> = parsed
-            .iter()
-            .zip(&meshes)
-            .zip(&solids)
-            .map(|(((path, cell), mesh), solid)| {
+        let inputs: Vec<_> = (parsed.iter().zip(&meshes).zip(&stats.operand_voxels))
+            .map(|(((path, cell), mesh), voxels)| {
                 json!({"file": path.display().to_string(), "cell": cell,
                        "vertices": mesh.vertex_count(), "faces": mesh.face_count(),
-                       "voxels": solid.voxel_count()})
+                       "voxels": voxels})
             })
             .collect();
-        let stats = json!({
-            "command": format!("discrete {name}"),
-            "inputs": inputs,
-            "cell": grid.h(),
-            "voxels": result.voxel_count(),
-            "tiles": tile_json(&result),
-            "output": report.json,
-            "read_seconds": read_seconds,
-            "discretize_seconds": discretize_seconds,
-            "boolean_seconds": boolean_seconds,
-            "convert_seconds": report.convert_seconds,
-            "write_seconds": report.write_seconds,
-            "op_seconds": discretize_seconds + boolean_seconds + report.convert_seconds,
-        });
-        println!("{stats}");
+        println!(
+            "{}",
+            stats_json(name, &inputs, grid, &stats, read_seconds, &report)
+        );
     }
     Ok(ExitCode::SUCCESS)
 }
 
-fn tile_json(s: &Solid) -> serde_json::Value {
-    let t = s.stats();
-    json!({"roots": t.roots, "uniform": t.uniform, "bricks": t.bricks, "splits": t.splits,
-           "entries": t.entries})
+/// The `--stats` object.
+fn stats_json(
+    name: &str,
+    inputs: &[serde_json::Value],
+    grid: Grid,
+    stats: &DiscreteStats,
+    read_seconds: f64,
+    report: &Written,
+) -> serde_json::Value {
+    let t = &stats.tiles;
+    let discretize_seconds = seconds_of(&stats.stage_seconds, Stage::Discretize);
+    let boolean_seconds = seconds_of(&stats.stage_seconds, Stage::Combine);
+    json!({
+        "command": format!("discrete {name}"),
+        "inputs": inputs,
+        "cell": grid.h(),
+        "voxels": stats.voxels,
+        "tiles": {"roots": t.roots, "uniform": t.uniform, "bricks": t.bricks, "splits": t.splits,
+                  "entries": t.entries},
+        "output": report.json,
+        "read_seconds": read_seconds,
+        "discretize_seconds": discretize_seconds,
+        "boolean_seconds": boolean_seconds,
+        "convert_seconds": report.convert_seconds,
+        "write_seconds": report.write_seconds,
+        "op_seconds": discretize_seconds + boolean_seconds + report.convert_seconds,
+    })
 }
 
 /// What writing the result produced.
@@ -343,50 +340,6 @@ fn load(path: &Path) -> anyhow::Result<Mesh> {
     let loaded =
         csgkit::io::read_mesh(path).with_context(|| format!("cannot read {}", path.display()))?;
     Ok(loaded.mesh)
-}
-
-/// A one-line progress bar on stderr, shown only on a terminal.
-struct Progress {
-    label: String,
-    last: Mutex<Option<u32>>,
-    shown: bool,
-}
-
-impl Progress {
-    fn new(label: &str, disabled: bool) -> Self {
-        Self {
-            label: label.to_owned(),
-            last: Mutex::new(None),
-            shown: !disabled && std::io::stderr().is_terminal(),
-        }
-    }
-
-    /// Draws the bar at `fraction`; always asks to go on.
-    fn report(&self, fraction: f64) -> bool {
-        if !self.shown {
-            return true;
-        }
-        let percent = (fraction * 100.0).round() as u32;
-        let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
-        if *last != Some(percent) {
-            *last = Some(percent);
-            let filled = (percent / 5) as usize;
-            eprint!(
-                "\rdiscretising {} [{}{}] {percent:3}%",
-                self.label,
-                "#".repeat(filled),
-                " ".repeat(20 - filled)
-            );
-            let _ = std::io::stderr().flush();
-        }
-        true
-    }
-
-    fn finish(&self) {
-        if self.shown {
-            eprintln!();
-        }
-    }
 }
 
 /// `csgkit discrete demo`: the showcase, written to `-o` when given.

@@ -19,14 +19,15 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 use csgkit::exact::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Operation, Stage, WindingRule, boolean,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, WindingRule,
+    boolean_expression,
 };
 use csgkit::mesh::{FaceMode, MeshReport};
-use csgkit::{Format, Mesh, WriteError, WriteOptions, write_mesh};
+use csgkit::{Format, Mesh, Operation, WriteError, WriteOptions, write_mesh};
 use serde_json::json;
 
 use super::{load, warn_if_manifold_lost};
-use crate::progress::StageBar;
+use crate::progress::{seconds_of, stage_name, with_bar};
 
 /// Below this many input faces the boolean ends before a progress bar would help.
 const PROGRESS_MIN_FACES: usize = 20_000;
@@ -95,7 +96,7 @@ pub struct FaceArgs {
 impl FaceArgs {
     /// `options` with the faces, merging and simplification these arguments ask for, for a
     /// result written in `format`.
-    pub fn apply<'a>(&self, format: Format, options: BooleanOptions<'a>) -> BooleanOptions<'a> {
+    pub fn apply(&self, format: Format, options: BooleanOptions) -> BooleanOptions {
         BooleanOptions {
             faces: self.face_mode(format),
             merge_coplanar: self.merge_coplanar,
@@ -150,7 +151,7 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
         .collect::<anyhow::Result<Vec<Mesh>>>()?;
     let read_seconds = clock.elapsed().as_secs_f64();
     let result = compute(op, args, format, &meshes)
-        .with_context(|| format!("cannot compute the {}", op_name(op)))?;
+        .with_context(|| format!("cannot compute the {}", op.name()))?;
     warn_if_manifold_lost(args.manifold, &args.output);
     let clock = Instant::now();
     let options = WriteOptions {
@@ -179,60 +180,30 @@ fn compute(
 ) -> anyhow::Result<Boolean> {
     let operands: Vec<&Mesh> = meshes.iter().collect();
     let faces = meshes.iter().map(Mesh::face_count).sum();
-    let bar = StageBar::new(faces, PROGRESS_MIN_FACES);
-    let show = |stage: Stage, done: usize, total: usize| match &bar {
-        Some(bar) => bar.update(&stage_name(stage), done, total),
-        None => true,
-    };
     let options = BooleanOptions {
         check_self_intersections: !args.no_self_check,
         winding: args.winding.rule(),
         split_non_manifold: args.manifold,
-        progress: Some(&show),
         ..BooleanOptions::default()
     };
     let options = args.faces.apply(format, options);
-    let result = boolean(op, &operands, &options);
-    bar.inspect(StageBar::finish);
+    let expression = Expression::of(op, operands.len());
+    let result = with_bar(faces, PROGRESS_MIN_FACES, |progress| {
+        boolean_expression(&expression, &operands, &options, progress)
+    });
     result.map_err(|err| name_operand(err, &args.inputs))
 }
 
 /// The library's error, under the file name of the operand it names (if any).
 fn name_operand(err: BooleanError, inputs: &[PathBuf]) -> anyhow::Error {
-    let operand = match err {
-        BooleanError::NonFinite { operand, .. }
-        | BooleanError::InvalidPolygon { operand, .. }
-        | BooleanError::NotClosed { operand, .. }
-        | BooleanError::Inverted { operand, .. } => inputs.get(operand),
+    let operand = match &err {
+        BooleanError::InvalidOperand(invalid) => inputs.get(invalid.operand()),
         _ => None,
     };
     match operand {
         Some(path) => anyhow::Error::new(err).context(path.display().to_string()),
         None => err.into(),
     }
-}
-
-/// The command's name for `op`, as in "cannot compute the union".
-fn op_name(op: Operation) -> &'static str {
-    match op {
-        Operation::Union => "union",
-        Operation::Intersection => "intersection",
-        Operation::Difference => "difference",
-    }
-}
-
-/// The snake_case name of a stage ("ingest", "validate", …), for the bars and the `stages`
-/// object of `--stats`. It is derived from the variant's name, so a stage the library adds
-/// later ([`Stage`] is non-exhaustive) gets its own name without a change here.
-pub fn stage_name(stage: Stage) -> String {
-    let mut name = String::new();
-    for (i, c) in format!("{stage:?}").char_indices() {
-        if c.is_ascii_uppercase() && i > 0 {
-            name.push('_');
-        }
-        name.push(c.to_ascii_lowercase());
-    }
-    name
 }
 
 /// The `stages` object of `--stats`: seconds per stage, by snake_case name.
@@ -244,10 +215,7 @@ pub fn stages_json(stats: &BooleanStats) -> serde_json::Map<String, serde_json::
 
 /// The seconds of the self-intersection check, which `op_seconds` leaves out.
 pub fn validate_seconds(stats: &BooleanStats) -> f64 {
-    (stats.stage_seconds.iter())
-        .filter(|(stage, _)| *stage == Stage::Validate)
-        .map(|(_, secs)| secs)
-        .sum()
+    seconds_of(&stats.stage_seconds, csgkit::Stage::Validate)
 }
 
 /// The seconds spent reading the operands and writing the result.
@@ -273,7 +241,7 @@ fn stats_json(
     let stages = stages_json(s);
     let validate_seconds = validate_seconds(s);
     json!({
-        "command": op_name(op),
+        "command": op.name(),
         "inputs": inputs,
         "self_check": !args.no_self_check,
         "manifold": args.manifold,
@@ -316,26 +284,19 @@ fn input_json(path: &Path, mesh: &Mesh) -> serde_json::Value {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn stage_names_are_snake_case() {
-        let names: Vec<String> = [Stage::Ingest, Stage::Validate, Stage::Assemble]
-            .into_iter()
-            .map(stage_name)
-            .collect();
-        assert_eq!(names, ["ingest", "validate", "assemble"]);
-    }
+    use csgkit::exact::InvalidOperand;
 
     #[test]
     fn an_operand_error_names_the_file() {
         let inputs = [PathBuf::from("a.obj"), PathBuf::from("dir/b.stl")];
-        let err = BooleanError::Inverted {
+        let err = BooleanError::InvalidOperand(InvalidOperand::Inverted {
             operand: 1,
             volume: -1.0,
-        };
+        });
         let message = format!("{:#}", name_operand(err, &inputs));
         assert!(message.starts_with("dir/b.stl: operand 1 "), "{message}");
-        let message = format!("{:#}", name_operand(BooleanError::Cancelled, &inputs));
+        let cancelled = BooleanError::Cancelled(csgkit::Cancelled);
+        let message = format!("{:#}", name_operand(cancelled, &inputs));
         assert_eq!(message, "cancelled");
     }
 }

@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use csgkit::exact::Operation;
+use csgkit::Operation;
 
 use super::exact::{ExactArgs, FaceArgs, Winding, run as run_exact};
 

@@ -596,8 +596,10 @@ impl<'a> Sweep<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Operation;
     use crate::csg::{Node, evaluate};
-    use crate::exact::{BooleanOptions, Operation};
+    use crate::exact::BooleanOptions;
+    use crate::progress::Progress;
 
     fn square(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<[f64; 2]> {
         vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
@@ -615,7 +617,12 @@ mod tests {
                 Node::mesh(prism, "shape")
             })
             .collect();
-        let result = evaluate(&Node::apply(op, leaves), &BooleanOptions::default()).unwrap();
+        let result = evaluate(
+            &Node::apply(op, leaves),
+            &BooleanOptions::default(),
+            &Progress::default(),
+        )
+        .unwrap();
         Profile::of_prisms(&result.result.mesh)
     }
 

@@ -12,4 +12,4 @@ pub mod openscad;
 pub mod scene;
 pub mod tree;
 
-pub use tree::{Affine, CsgError, Evaluation, IDENTITY, Node, NodeKind, evaluate};
+pub use tree::{Affine, CsgError, Evaluation, Flat, IDENTITY, Node, NodeKind, evaluate, flatten};

@@ -23,7 +23,7 @@
 
 use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
 use super::tree::{Affine, Node, NodeKind};
-use crate::exact::Operation;
+use crate::Operation;
 use crate::mesh::Mesh;
 use crate::primitives::{Fragments, circle, cuboid, uv_sphere};
 

@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use super::tree::{Affine, Node, NodeKind};
-use crate::exact::Operation;
+use crate::Operation;
 use crate::io::{ReadError, read_mesh};
 use crate::mesh::Mesh;
 use crate::ortho::{

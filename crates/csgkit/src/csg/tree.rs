@@ -9,10 +9,12 @@
 //! ([`boolean_expression`]): no chain of binary booleans, so no rounding between the
 //! operations of a tree.
 
+use crate::Operation;
 use crate::exact::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, Operation, boolean_expression,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, boolean_expression,
 };
 use crate::mesh::{Mesh, MeshParts};
+use crate::progress::Progress;
 
 use super::extrude::{ExtrudeError, Extrusion, Profile};
 
@@ -125,19 +127,59 @@ pub struct Evaluation {
     pub operations: usize,
 }
 
-/// Evaluates `root` in one exact pass (see the module docs).
+/// A tree flattened: every leaf placed and painted (extrusions swept), in depth-first order,
+/// and the expression over them.
+#[derive(Clone, Debug)]
+pub struct Flat {
+    /// The tree's operations over the leaves.
+    pub expression: Expression,
+    /// The placed leaves.
+    pub leaves: Vec<Mesh>,
+    /// Where each leaf came from.
+    pub names: Vec<String>,
+    /// Operation nodes of the tree (the 2D ones below extrusions included).
+    pub operations: usize,
+}
+
+/// Flattens `root` (see the module docs): the 2D subtree of every extrusion is evaluated on
+/// its own, through `progress`, and swept into its leaf.
 ///
 /// # Errors
-/// [`CsgError::BadTransform`] for a singular or non-finite transform, [`CsgError::Boolean`]
-/// (naming the leaf where the engine names an operand) otherwise.
-pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, CsgError> {
-    let mut flat = Flattened {
+/// [`CsgError::BadTransform`] for a singular or non-finite transform, [`CsgError::Extrude`]
+/// for an extrusion that cannot be swept, [`CsgError::Boolean`] from a 2D subtree.
+pub fn flatten(
+    root: &Node,
+    options: &BooleanOptions,
+    progress: &Progress,
+) -> Result<Flat, CsgError> {
+    let mut flattened = Flattened {
         options,
+        progress,
         leaves: Vec::new(),
         names: Vec::new(),
         operations: 0,
     };
-    let expression = flat.visit(root, IDENTITY, None)?;
+    let expression = flattened.visit(root, IDENTITY, None)?;
+    Ok(Flat {
+        expression,
+        leaves: flattened.leaves,
+        names: flattened.names,
+        operations: flattened.operations,
+    })
+}
+
+/// Evaluates `root` in one exact pass (see the module docs), reporting the exact engine's
+/// stages to `progress`.
+///
+/// # Errors
+/// As [`flatten`], and [`CsgError::Boolean`] (naming the leaf where the engine names an
+/// operand) for the tree's operations, including a cancellation.
+pub fn evaluate(
+    root: &Node,
+    options: &BooleanOptions,
+    progress: &Progress,
+) -> Result<Evaluation, CsgError> {
+    let flat = flatten(root, options, progress)?;
     if flat.leaves.is_empty() {
         // A tree without leaves (an OpenSCAD model that only echoes) is the empty solid.
         return Ok(Evaluation {
@@ -150,10 +192,11 @@ pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, Csg
         });
     }
     let operands: Vec<&Mesh> = flat.leaves.iter().collect();
-    let result = boolean_expression(&expression, &operands, options).map_err(|error| {
-        let leaf = operand_of(&error).and_then(|k| flat.names.get(k).cloned());
-        CsgError::Boolean { leaf, error }
-    })?;
+    let result =
+        boolean_expression(&flat.expression, &operands, options, progress).map_err(|error| {
+            let leaf = operand_of(&error).and_then(|k| flat.names.get(k).cloned());
+            CsgError::Boolean { leaf, error }
+        })?;
     Ok(Evaluation {
         result,
         leaves: flat.leaves.len(),
@@ -164,17 +207,15 @@ pub fn evaluate(root: &Node, options: &BooleanOptions) -> Result<Evaluation, Csg
 /// The operand an engine error names.
 fn operand_of(error: &BooleanError) -> Option<usize> {
     match error {
-        BooleanError::NonFinite { operand, .. }
-        | BooleanError::InvalidPolygon { operand, .. }
-        | BooleanError::NotClosed { operand, .. }
-        | BooleanError::Inverted { operand, .. } => Some(*operand),
+        BooleanError::InvalidOperand(invalid) => Some(invalid.operand()),
         _ => None,
     }
 }
 
 /// The leaves of a tree, transformed and painted, in depth-first order.
-struct Flattened<'a, 'b> {
-    options: &'a BooleanOptions<'b>,
+struct Flattened<'a, 'p> {
+    options: &'a BooleanOptions,
+    progress: &'a Progress<'p>,
     leaves: Vec<Mesh>,
     names: Vec<String>,
     operations: usize,
@@ -199,7 +240,7 @@ impl Flattened<'_, '_> {
                 extrusion,
                 name,
             } => {
-                let prisms = evaluate(profile, self.options)?;
+                let prisms = evaluate(profile, self.options, self.progress)?;
                 self.operations += prisms.operations;
                 let profile = Profile::of_prisms(&prisms.result.mesh);
                 let solid = extrusion
@@ -323,7 +364,7 @@ mod tests {
             transform: Some(mirror),
             ..Node::apply(Operation::Union, vec![leaf, Node::mesh(unit, "b")])
         };
-        let out = evaluate(&tree, &BooleanOptions::default()).unwrap();
+        let out = evaluate(&tree, &BooleanOptions::default(), &Progress::default()).unwrap();
         let report = out.result.mesh.report();
         assert!(report.is_valid_solid());
         assert_eq!(report.measures.volume, 2.0);
@@ -336,6 +377,7 @@ mod tests {
         let out = evaluate(
             &Node::apply(Operation::Union, Vec::new()),
             &BooleanOptions::default(),
+            &Progress::default(),
         );
         assert!(out.unwrap().result.mesh.is_empty());
     }
@@ -351,7 +393,7 @@ mod tests {
             transform: Some(flat),
             ..Node::mesh(cuboid([0.0; 3], [1.0; 3]), "the cube")
         };
-        let err = evaluate(&leaf, &BooleanOptions::default()).unwrap_err();
+        let err = evaluate(&leaf, &BooleanOptions::default(), &Progress::default()).unwrap_err();
         assert_eq!(
             err.to_string(),
             "the cube: its transform is singular or not finite"

@@ -13,7 +13,8 @@
 //! both event lists by depth, update `S1 ^= m1`, `S2 ^= m2`, form `S' = op(S1, S2)` bitwise
 //! and emit `(z, S ^ S')` when it is not zero. Cost `O(a + b)` word operations.
 
-use super::column::{BoolOp, Column};
+use super::column::Column;
+use crate::Operation;
 
 /// Number of sub-columns along each side of a brick.
 pub const BRICK_SIDE: i32 = 8;
@@ -170,7 +171,7 @@ impl Brick {
     }
 
     /// `self op other`, by the seed's list merge with masks.
-    pub fn op(&self, other: &Self, op: BoolOp) -> Self {
+    pub fn op(&self, other: &Self, op: Operation) -> Self {
         let (a, b) = (&self.events, &other.events);
         let (mut ia, mut ib) = (0, 0);
         let (mut s1, mut s2, mut s) = (0u64, 0u64, 0u64);
@@ -304,7 +305,7 @@ mod tests {
             Config::with_cases(60),
             TestRng::from_seed(RngAlgorithm::ChaCha, &[11; 32]),
         );
-        let ops = BoolOp::ALL;
+        let ops = Operation::ALL;
         runner
             .run(&(arb_brick_columns(), arb_brick_columns()), |(ca, cb)| {
                 let a = Brick::from_columns(&ca.iter().collect::<Vec<_>>());

@@ -11,6 +11,8 @@
 
 use smallvec::SmallVec;
 
+use crate::Operation;
+
 /// A half-open range `[z0, z1)` of finest voxel indices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Interval {
@@ -18,49 +20,6 @@ pub struct Interval {
     pub z0: i32,
     /// First voxel above the interval.
     pub z1: i32,
-}
-
-/// A boolean set operation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum BoolOp {
-    /// A ∪ B.
-    Union,
-    /// A ∩ B.
-    Intersection,
-    /// A − B.
-    Difference,
-    /// A ⊕ B (symmetric difference).
-    Xor,
-}
-
-impl BoolOp {
-    /// Every operation, for callers (tests, benches) that try them all.
-    pub const ALL: [BoolOp; 4] = [
-        BoolOp::Union,
-        BoolOp::Intersection,
-        BoolOp::Difference,
-        BoolOp::Xor,
-    ];
-
-    /// The operation on one pair of inside flags.
-    pub fn apply(self, a: bool, b: bool) -> bool {
-        match self {
-            Self::Union => a | b,
-            Self::Intersection => a & b,
-            Self::Difference => a & !b,
-            Self::Xor => a ^ b,
-        }
-    }
-
-    /// The operation on 64 pairs of inside flags at once.
-    pub fn apply_mask(self, a: u64, b: u64) -> u64 {
-        match self {
-            Self::Union => a | b,
-            Self::Intersection => a & b,
-            Self::Difference => a & !b,
-            Self::Xor => a ^ b,
-        }
-    }
 }
 
 /// Why a column breaks its invariant.
@@ -174,7 +133,7 @@ impl Column {
     }
 
     /// `self op other`, by one merge walk over both endpoint lists.
-    pub fn op(&self, other: &Self, op: BoolOp) -> Self {
+    pub fn op(&self, other: &Self, op: Operation) -> Self {
         let (a, b) = (self.intervals(), other.intervals());
         let (mut ia, mut ib) = (0, 0);
         let (mut in_a, mut in_b, mut state) = (false, false, false);
@@ -254,10 +213,10 @@ mod tests {
     fn ops_on_a_small_example() {
         let a = col(&[(0, 4), (6, 8)]);
         let b = col(&[(2, 6)]);
-        assert_eq!(a.op(&b, BoolOp::Union), col(&[(0, 8)]));
-        assert_eq!(a.op(&b, BoolOp::Intersection), col(&[(2, 4)]));
-        assert_eq!(a.op(&b, BoolOp::Difference), col(&[(0, 2), (6, 8)]));
-        assert_eq!(a.op(&b, BoolOp::Xor), col(&[(0, 2), (4, 8)]));
+        assert_eq!(a.op(&b, Operation::Union), col(&[(0, 8)]));
+        assert_eq!(a.op(&b, Operation::Intersection), col(&[(2, 4)]));
+        assert_eq!(a.op(&b, Operation::Difference), col(&[(0, 2), (6, 8)]));
+        assert_eq!(a.op(&b, Operation::Xor), col(&[(0, 2), (4, 8)]));
         assert!(col(&[(0, 8)]).is_aligned(3) && !a.is_aligned(3));
     }
 
@@ -277,7 +236,7 @@ mod tests {
             Config::with_cases(300),
             TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]),
         );
-        let ops = BoolOp::ALL;
+        let ops = Operation::ALL;
         runner
             .run(&(arb_column(), arb_column()), |(a, b)| {
                 for op in ops {

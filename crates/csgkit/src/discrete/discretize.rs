@@ -48,15 +48,15 @@
 //! `O(T + C log C)` for `T` triangles and `C` column crossings (plus the columns each
 //! triangle's bounding box covers); memory `O(C)`, that is, proportional to the surface.
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
 use rayon::prelude::*;
 use robust::{Coord, Coord3D, orient2d, orient3d};
 
-use super::column::{BoolOp, Column, Interval};
+use super::column::{Column, Interval};
 use super::grid::{Grid, MAX_LEVEL};
 use super::tile::Solid;
+use crate::Operation;
 use crate::mesh::Mesh;
+use crate::progress::{Cancelled, Counter, Progress, Stage};
 
 /// Which winding numbers count as inside.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -132,9 +132,9 @@ pub enum DiscretizeError {
         /// The offending coordinate.
         value: f64,
     },
-    /// The progress callback asked to stop.
+    /// The run was cancelled through its [`Progress`].
     #[error("discretisation was cancelled")]
-    Cancelled,
+    Cancelled(#[from] Cancelled),
     /// The level is above the largest supported level.
     #[error("level {0} is above the largest level 20")]
     BadLevel(u8),
@@ -190,22 +190,44 @@ pub fn discretize(
     level: u8,
     options: DiscretizeOptions,
 ) -> Result<Solid, DiscretizeError> {
-    discretize_with_progress(mesh, grid, level, options, &|_| true)
+    discretize_with_progress(mesh, grid, level, options, &Progress::default())
 }
 
-/// [`discretize`], reporting progress and allowing cancellation.
-///
-/// `progress` receives the fraction of triangles done (0 to 1, from any worker thread, at
-/// least once at the end of the triangle pass); returning `false` cancels the work.
+/// [`discretize`], reporting the triangles done to `progress` ([`Stage::Discretize`]), which
+/// can cancel the work.
 ///
 /// # Errors
-/// As [`discretize`], and [`DiscretizeError::Cancelled`] when `progress` returned `false`.
+/// As [`discretize`], and [`DiscretizeError::Cancelled`] once `progress` is cancelled.
 pub fn discretize_with_progress(
     mesh: &Mesh,
     grid: Grid,
     level: u8,
     options: DiscretizeOptions,
-    progress: &(dyn Fn(f64) -> bool + Sync),
+    progress: &Progress,
+) -> Result<Solid, DiscretizeError> {
+    let counter = progress.counter(Stage::Discretize, triangle_count(mesh));
+    let solid = discretize_counted(mesh, grid, level, options, &counter)?;
+    counter.finish()?;
+    Ok(solid)
+}
+
+/// The triangles [`discretize`] casts: those of the mesh's fans.
+pub(crate) fn triangle_count(mesh: &Mesh) -> usize {
+    mesh.fan_triangles().count()
+}
+
+/// [`discretize`], advancing `counter` by the triangles done (of a count that may span
+/// several meshes). After a cancellation the solid is incomplete: the caller's
+/// [`Counter::finish`] reports it.
+///
+/// # Errors
+/// As [`discretize`].
+pub(crate) fn discretize_counted(
+    mesh: &Mesh,
+    grid: Grid,
+    level: u8,
+    options: DiscretizeOptions,
+    counter: &Counter,
 ) -> Result<Solid, DiscretizeError> {
     if level > MAX_LEVEL {
         return Err(DiscretizeError::BadLevel(level));
@@ -216,7 +238,10 @@ pub fn discretize_with_progress(
         level,
         rounding: options.rounding,
     };
-    let mut crossings = all_crossings(mesh, &lattice, progress)?;
+    let mut crossings = all_crossings(mesh, &lattice, counter);
+    if counter.is_cancelled() {
+        return Ok(Solid::from_columns(grid, level, &[]));
+    }
     crossings.par_sort_unstable();
     let groups: Vec<&[Crossing]> = crossings
         .chunk_by(|a, b| a.column_key() == b.column_key())
@@ -233,40 +258,16 @@ pub fn discretize_with_progress(
     Ok(Solid::from_columns(grid, level, &columns))
 }
 
-/// Triangles per progress report and cancellation check.
-const CHUNK: usize = 1 << 12;
-
-/// Steps 2–3 over all triangles, in parallel chunks, in triangle order.
-fn all_crossings(
-    mesh: &Mesh,
-    lattice: &Lattice,
-    progress: &(dyn Fn(f64) -> bool + Sync),
-) -> Result<Vec<Crossing>, DiscretizeError> {
+/// Steps 2–3 over all triangles, in parallel chunks, in triangle order; each chunk advances
+/// `counter`, and once the run is cancelled the remaining chunks give nothing.
+fn all_crossings(mesh: &Mesh, lattice: &Lattice, counter: &Counter) -> Vec<Crossing> {
     let triangles: Vec<[u32; 3]> = mesh.fan_triangles().map(|(_, t)| t).collect();
     let positions = mesh.positions();
-    let done = AtomicUsize::new(0);
-    let cancelled = AtomicBool::new(false);
-    let total = triangles.len().max(1) as f64;
-    let crossings: Vec<Crossing> = triangles
-        .par_chunks(CHUNK)
-        .flat_map_iter(|chunk| {
-            let mut out = Vec::new();
-            if !cancelled.load(Ordering::Relaxed) {
-                for t in chunk {
-                    lattice.triangle_crossings(t.map(|v| positions[v as usize]), &mut out);
-                }
-                let n = done.fetch_add(chunk.len(), Ordering::Relaxed) + chunk.len();
-                if !progress(n as f64 / total) {
-                    cancelled.store(true, Ordering::Relaxed);
-                }
-            }
-            out
-        })
-        .collect();
-    if cancelled.load(Ordering::Relaxed) || (triangles.is_empty() && !progress(1.0)) {
-        return Err(DiscretizeError::Cancelled);
-    }
-    Ok(crossings)
+    counter.par_chunks(&triangles, |chunk, out| {
+        for t in chunk {
+            lattice.triangle_crossings(t.map(|v| positions[v as usize]), out);
+        }
+    })
 }
 
 /// Step 1: every coordinate finite and within the grid's index range.
@@ -424,8 +425,8 @@ impl Lattice {
         let base = Column::from_intervals(base);
         let column = match self.rounding {
             Rounding::Centre => base,
-            Rounding::Inner => base.op(&special, BoolOp::Difference),
-            Rounding::Outer => base.op(&special, BoolOp::Union),
+            Rounding::Inner => base.op(&special, Operation::Difference),
+            Rounding::Outer => base.op(&special, Operation::Union),
         };
         Ok(scale(&column, self.level))
     }

@@ -15,13 +15,14 @@
 //!   material id per distinct name, so faces are maximal per material and interfaces between
 //!   materials inside the solid are not faces; names and colours are those of the parts.
 
-use super::discretize::{DiscretizeError, DiscretizeOptions, discretize};
+use super::discretize::{DiscretizeError, DiscretizeOptions, discretize_counted, triangle_count};
 use super::grid::Grid;
 use super::ops::OpError;
 use super::tile::Solid;
 use crate::mesh::attributes::DEFAULT_NAME;
 use crate::mesh::{Mesh, Rgba, analyze_topology};
 use crate::ortho::{MeshOptions, OrthoError, box_union_with_materials};
+use crate::progress::{Counter, Progress, Stage};
 
 /// The voxels of one material.
 #[derive(Clone, Debug)]
@@ -81,12 +82,28 @@ pub fn discretize_parts(
     level: u8,
     options: DiscretizeOptions,
 ) -> Result<Vec<MaterialSolid>, DiscretizeError> {
+    let progress = Progress::default();
+    let counter = progress.counter(Stage::Discretize, triangle_count(mesh));
+    discretize_parts_counted(mesh, grid, level, options, &counter)
+}
+
+/// [`discretize_parts`], advancing `counter` by the triangles done.
+///
+/// # Errors
+/// As [`discretize_parts`].
+pub(crate) fn discretize_parts_counted(
+    mesh: &Mesh,
+    grid: Grid,
+    level: u8,
+    options: DiscretizeOptions,
+    counter: &Counter,
+) -> Result<Vec<MaterialSolid>, DiscretizeError> {
     (material_parts(mesh).into_iter())
         .map(|(material, color, part)| {
             Ok(MaterialSolid {
                 material,
                 color,
-                solid: discretize(&part, grid, level, options)?,
+                solid: discretize_counted(&part, grid, level, options, counter)?,
             })
         })
         .collect()

@@ -20,6 +20,11 @@
 //!    result's voxels labelled by the first operand part containing them ([`label`]), and
 //!    the mesh with the material of the solid behind each face ([`labelled_mesh`]).
 //!
+//! [`combine`] (`combine.rs`) runs steps 1, 3 and 5 for an operation on meshes, each operand
+//! at its own level of one grid, reporting the triangles cast to a
+//! [`Progress`](crate::Progress) that can cancel it: what `csgkit discrete` and the engine
+//! facade run.
+//!
 //! # Invariants
 //! - Everything is an integer after step 1, so booleans are exact and chain without drift.
 //! - Solids are canonical: equal voxel sets on one grid give equal solids (normalisation).
@@ -27,6 +32,7 @@
 
 mod brick;
 mod column;
+mod combine;
 mod discretize;
 mod grid;
 mod materials;
@@ -36,7 +42,8 @@ mod tile;
 mod to_boxes;
 
 pub use brick::{BRICK_SIDE, Brick, BrickError};
-pub use column::{BoolOp, Column, ColumnError, Interval};
+pub use column::{Column, ColumnError, Interval};
+pub use combine::{CombineError, Combined, DiscreteStats, combine};
 pub use discretize::{
     DiscretizeError, DiscretizeOptions, FillRule, Rounding, discretize, discretize_with_progress,
 };

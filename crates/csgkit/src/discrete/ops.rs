@@ -20,9 +20,9 @@
 use rayon::prelude::*;
 
 use super::brick::Brick;
-use super::column::BoolOp;
 use super::grid::Grid;
 use super::tile::{Solid, Tile};
+use crate::Operation;
 
 /// Why two solids cannot be combined.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -43,7 +43,7 @@ impl Solid {
     ///
     /// # Errors
     /// [`OpError::GridMismatch`] if the operands are on different grids.
-    pub fn op(&self, other: &Solid, op: BoolOp) -> Result<Solid, OpError> {
+    pub fn op(&self, other: &Solid, op: Operation) -> Result<Solid, OpError> {
         if self.grid() != other.grid() {
             return Err(OpError::GridMismatch {
                 left: *self.grid(),
@@ -80,12 +80,12 @@ impl Solid {
     ///
     /// # Errors
     /// As [`Solid::op`].
-    pub fn op_all(operands: &[Solid], op: BoolOp) -> Result<Option<Solid>, OpError> {
+    pub fn op_all(operands: &[Solid], op: Operation) -> Result<Option<Solid>, OpError> {
         match operands {
             [] => Ok(None),
             [one] => Ok(Some(one.clone())),
-            [first, rest @ ..] if op == BoolOp::Difference => {
-                let subtrahend = Self::op_all(rest, BoolOp::Union)?.expect("rest is not empty");
+            [first, rest @ ..] if op == Operation::Difference => {
+                let subtrahend = Self::op_all(rest, Operation::Union)?.expect("rest is not empty");
                 first.difference(&subtrahend).map(Some)
             }
             _ => {
@@ -105,7 +105,7 @@ impl Solid {
     /// # Errors
     /// As [`Solid::op`].
     pub fn union(&self, other: &Solid) -> Result<Solid, OpError> {
-        self.op(other, BoolOp::Union)
+        self.op(other, Operation::Union)
     }
 
     /// `self ∩ other`.
@@ -113,7 +113,7 @@ impl Solid {
     /// # Errors
     /// As [`Solid::op`].
     pub fn intersection(&self, other: &Solid) -> Result<Solid, OpError> {
-        self.op(other, BoolOp::Intersection)
+        self.op(other, Operation::Intersection)
     }
 
     /// `self − other`.
@@ -121,7 +121,7 @@ impl Solid {
     /// # Errors
     /// As [`Solid::op`].
     pub fn difference(&self, other: &Solid) -> Result<Solid, OpError> {
-        self.op(other, BoolOp::Difference)
+        self.op(other, Operation::Difference)
     }
 
     /// `self ⊕ other`.
@@ -129,12 +129,12 @@ impl Solid {
     /// # Errors
     /// As [`Solid::op`].
     pub fn xor(&self, other: &Solid) -> Result<Solid, OpError> {
-        self.op(other, BoolOp::Xor)
+        self.op(other, Operation::Xor)
     }
 }
 
 /// `a op b` for two normalised tiles of `level`, normalised.
-fn tile_op(level: u8, a: &Tile, b: &Tile, op: BoolOp) -> Tile {
+fn tile_op(level: u8, a: &Tile, b: &Tile, op: Operation) -> Tile {
     if let Some(t) = with_empty_side(a, b, op) {
         return t;
     }
@@ -172,12 +172,12 @@ fn tile_op(level: u8, a: &Tile, b: &Tile, op: BoolOp) -> Tile {
 }
 
 /// The result when one side is empty, without descending.
-fn with_empty_side(a: &Tile, b: &Tile, op: BoolOp) -> Option<Tile> {
+fn with_empty_side(a: &Tile, b: &Tile, op: Operation) -> Option<Tile> {
     match (a.is_empty(), b.is_empty(), op) {
-        (true, _, BoolOp::Union | BoolOp::Xor) => Some(b.clone()),
-        (_, true, BoolOp::Union | BoolOp::Xor | BoolOp::Difference) => Some(a.clone()),
-        (true, _, BoolOp::Intersection | BoolOp::Difference) => Some(Tile::empty()),
-        (_, true, BoolOp::Intersection) => Some(Tile::empty()),
+        (true, _, Operation::Union | Operation::Xor) => Some(b.clone()),
+        (_, true, Operation::Union | Operation::Xor | Operation::Difference) => Some(a.clone()),
+        (true, _, Operation::Intersection | Operation::Difference) => Some(Tile::empty()),
+        (_, true, Operation::Intersection) => Some(Tile::empty()),
         _ => None,
     }
 }
@@ -214,14 +214,14 @@ mod tests {
         let cols: Vec<_> = (0..20).map(|i| ((i, i % 5), col(&[(i, i + 3)]))).collect();
         let b = Solid::from_columns(grid, 0, &cols);
         let (va, vb) = (voxels(&a), voxels(&b));
-        for op in BoolOp::ALL {
+        for op in Operation::ALL {
             let r = a.op(&b, op).unwrap();
             r.check_invariants().unwrap();
             let expect: BTreeSet<_> = match op {
-                BoolOp::Union => va.union(&vb).copied().collect(),
-                BoolOp::Intersection => va.intersection(&vb).copied().collect(),
-                BoolOp::Difference => va.difference(&vb).copied().collect(),
-                BoolOp::Xor => va.symmetric_difference(&vb).copied().collect(),
+                Operation::Union => va.union(&vb).copied().collect(),
+                Operation::Intersection => va.intersection(&vb).copied().collect(),
+                Operation::Difference => va.difference(&vb).copied().collect(),
+                Operation::Xor => va.symmetric_difference(&vb).copied().collect(),
             };
             assert_eq!(voxels(&r), expect, "{op:?}");
             assert_eq!(r.voxel_count(), expect.len() as u64);
@@ -249,19 +249,19 @@ mod tests {
                 )
             })
             .collect();
-        let chained = |op: BoolOp| {
+        let chained = |op: Operation| {
             solids[1..]
                 .iter()
                 .fold(solids[0].clone(), |acc, s| acc.op(s, op).unwrap())
         };
-        for op in BoolOp::ALL {
+        for op in Operation::ALL {
             assert_eq!(
                 Solid::op_all(&solids, op).unwrap(),
                 Some(chained(op)),
                 "{op:?}"
             );
         }
-        assert_eq!(Solid::op_all(&[], BoolOp::Union), Ok(None));
+        assert_eq!(Solid::op_all(&[], Operation::Union), Ok(None));
     }
 
     #[test]

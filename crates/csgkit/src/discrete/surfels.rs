@@ -24,8 +24,9 @@
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use super::column::{BoolOp, Column};
+use super::column::Column;
 use super::tile::Solid;
+use crate::Operation;
 use crate::mesh::{InvalidMesh, Mesh, MeshParts};
 
 /// The corner offsets of the unit square on each side of a voxel, counter-clockwise seen
@@ -100,7 +101,7 @@ fn column_faces(
     let neighbours = [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)];
     for (side, key) in (0u8..).zip(neighbours) {
         let other = columns.get(&key).unwrap_or(&empty);
-        for iv in column.op(other, BoolOp::Difference).intervals() {
+        for iv in column.op(other, Operation::Difference).intervals() {
             out.extend((iv.z0..iv.z1).map(|z| ([x, y, z], side)));
         }
     }

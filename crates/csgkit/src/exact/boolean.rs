@@ -1,129 +1,22 @@
 //! The public entry of the exact engine: [`boolean`] runs the stages of the pipeline in
 //! order and times each one.
 
-use std::time::Instant;
-
+use crate::Operation;
 use crate::kernel::Point3;
-use crate::mesh::{FaceMode, Mesh, PolygonError};
+use crate::mesh::{FaceMode, Mesh};
+use crate::progress::{Cancelled, Progress, Stage, StageClock};
 
 use super::assemble::Rounded;
+use super::certify::CertifyError;
+use super::expression::Expression;
+use super::ingest::InvalidOperand;
+use super::subdivide::StageError;
 use super::winding::{self, WindingRule};
 use super::{assemble, broad, certify, classify, ingest, reconstruct, select, simplify, subdivide};
 
-/// A boolean operation on solids.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Operation {
-    /// Points in any operand.
-    Union,
-    /// Points in every operand.
-    Intersection,
-    /// Points in the first operand and in none of the others.
-    Difference,
-}
-
-impl Operation {
-    /// Every operation, in declaration order.
-    pub const ALL: [Operation; 3] = [
-        Operation::Union,
-        Operation::Intersection,
-        Operation::Difference,
-    ];
-
-    /// Whether a point with the given inside flags (one per operand) is in the result.
-    pub fn contains(self, inside: impl ExactSizeIterator<Item = bool>) -> bool {
-        let mut inside = inside;
-        match self {
-            Operation::Union => inside.any(|x| x),
-            Operation::Intersection => inside.len() > 0 && inside.all(|x| x),
-            Operation::Difference => inside.next() == Some(true) && !inside.any(|x| x),
-        }
-    }
-}
-
-/// Which points a boolean keeps, as a formula over which operands contain them: one
-/// [`Operation`] on all operands, or a tree of operations (a CSG tree) whose leaves are the
-/// operands. The select stage evaluates it on the inside flags of every patch, so a whole
-/// tree is computed in one arrangement and rounded once.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub enum Expression {
-    /// The points of operand `k`.
-    Operand(usize),
-    /// The operation on the children's point sets (a difference: the first minus the others).
-    Apply(Operation, Vec<Expression>),
-}
-
-impl Expression {
-    /// `op` on operands `0..count`.
-    pub fn of(op: Operation, count: usize) -> Expression {
-        Expression::Apply(op, (0..count).map(Expression::Operand).collect())
-    }
-
-    /// Whether a point with the given inside flags (one per operand) is in the result.
-    ///
-    /// # Panics
-    /// If an operand index is out of range of `inside`.
-    pub fn contains(&self, inside: &[bool]) -> bool {
-        match self {
-            Expression::Operand(k) => inside[*k],
-            Expression::Apply(op, children) => {
-                op.contains(children.iter().map(|c| c.contains(inside)))
-            }
-        }
-    }
-
-    /// The highest operand index plus one (0 for an expression without operands).
-    pub fn operand_count(&self) -> usize {
-        match self {
-            Expression::Operand(k) => k + 1,
-            Expression::Apply(_, children) => children
-                .iter()
-                .map(Expression::operand_count)
-                .max()
-                .unwrap_or(0),
-        }
-    }
-}
-
-/// A stage of the pipeline, as reported to a [`ProgressFn`] and in [`BooleanStats`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum Stage {
-    /// Welding, triangulation of polygons, removal of degenerate triangles, closedness.
-    Ingest,
-    /// The exact self-intersection check of every operand, and the search for nested shells.
-    Validate,
-    /// Candidate triangle pairs from bounding boxes.
-    Broad,
-    /// Exact triangle–triangle intersection of the candidates.
-    Intersect,
-    /// Constrained triangulation of every triangle that meets another operand.
-    Split,
-    /// Patches and their inside / outside / on labels.
-    Classify,
-    /// The output face of every kept sub-triangle, and the removal of the intersection
-    /// points no face needs (exact).
-    Reconstruct,
-    /// Rounding to f64 and the output mesh.
-    Assemble,
-    /// Faces flat to within [`BooleanOptions::simplify`] merged, and the vertices only they
-    /// need removed (when asked).
-    Simplify,
-    /// The output checked as f64 numbers, repaired where rounding folded or collapsed it
-    /// (snap rounding).
-    Certify,
-    /// The certified triangles merged into polygons or quads ([`BooleanOptions::faces`]),
-    /// and the optional 2-manifold split.
-    Faces,
-    /// Face and corner attributes (materials, UVs, normals) from the source faces.
-    Attributes,
-}
-
-/// A progress callback, called with `(stage, done, total)`; returning `false` cancels.
-pub type ProgressFn<'a> = &'a (dyn Fn(Stage, usize, usize) -> bool + Sync);
-
 /// How [`boolean`] runs.
-#[derive(Clone, Copy)]
-pub struct BooleanOptions<'a> {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BooleanOptions {
     /// Find the faces of each operand that cross each other (exact, costs about as much as
     /// the boolean itself) and resolve them: such operands are intersected with themselves
     /// in the same arrangement and classified by winding numbers. On by default; when off,
@@ -150,11 +43,9 @@ pub struct BooleanOptions<'a> {
     /// at most this distance per removal; the result is certified as always. For chains of
     /// booleans through files, whose rounded faces are flat only to within an ulp.
     pub simplify: Option<f64>,
-    /// Called as stages progress.
-    pub progress: Option<ProgressFn<'a>>,
 }
 
-impl Default for BooleanOptions<'_> {
+impl Default for BooleanOptions {
     fn default() -> Self {
         Self {
             check_self_intersections: true,
@@ -163,7 +54,6 @@ impl Default for BooleanOptions<'_> {
             faces: FaceMode::Triangles,
             merge_coplanar: false,
             simplify: None,
-            progress: None,
         }
     }
 }
@@ -240,55 +130,9 @@ pub enum BooleanError {
     /// No operand was given.
     #[error("no operand given")]
     NoOperands,
-    /// A vertex has a NaN or infinite coordinate.
-    ///
-    /// *How to fix*: repair or remove the vertex.
-    #[error("operand {operand}: vertex {vertex} has a non-finite coordinate")]
-    NonFinite {
-        /// The operand.
-        operand: usize,
-        /// The vertex index in that operand.
-        vertex: u32,
-    },
-    /// A polygon of the operand cannot be triangulated: its projection overlaps itself, or it
-    /// has zero area (see [`PolygonError`], which names the face).
-    ///
-    /// *How to fix*: split the face into simple polygons, or remove it if it has no area
-    /// (`csgkit check` lists such faces).
-    #[error("operand {operand}: {error}")]
-    InvalidPolygon {
-        /// The operand.
-        operand: usize,
-        /// The face and what is wrong with it.
-        error: PolygonError,
-    },
-    /// Some edges are not used equally often in both directions: the operand has holes or
-    /// inconsistently oriented faces, so it does not bound a solid.
-    ///
-    /// *How to fix*: close the holes and orient the faces consistently (`csgkit check`
-    /// lists them).
-    #[error(
-        "operand {operand} is not closed and consistently oriented: {count} edges are unbalanced, first {}",
-        format_edges(first)
-    )]
-    NotClosed {
-        /// The operand.
-        operand: usize,
-        /// How many edges are unbalanced.
-        count: usize,
-        /// The first few, as pairs of the operand's vertex indices.
-        first: Vec<[u32; 2]>,
-    },
-    /// The operand is oriented inward (negative volume).
-    ///
-    /// *How to fix*: reverse every face.
-    #[error("operand {operand} is oriented inward (its volume {volume} is negative)")]
-    Inverted {
-        /// The operand.
-        operand: usize,
-        /// Its signed volume.
-        volume: f64,
-    },
+    /// An operand is not a closed, outward solid of finite coordinates.
+    #[error(transparent)]
+    InvalidOperand(#[from] InvalidOperand),
     /// Rounding the result to f64 made faces cross or collapse, and snapping their vertices
     /// to the coarsest grid allowed did not repair it; nothing was produced.
     ///
@@ -303,23 +147,16 @@ pub enum BooleanError {
         /// Degenerate faces left.
         degenerate_faces: usize,
     },
-    /// The progress callback asked to stop.
-    #[error("cancelled")]
-    Cancelled,
+    /// The run was cancelled through its [`Progress`].
+    #[error(transparent)]
+    Cancelled(#[from] Cancelled),
     /// A configuration the engine cannot handle yet; nothing was produced.
     #[error("unsupported configuration: {0}")]
     Unsupported(String),
 }
 
-fn format_edges(edges: &[[u32; 2]]) -> String {
-    let list: Vec<String> = edges.iter().map(|[a, b]| format!("{a}–{b}")).collect();
-    list.join(", ")
-}
-
-/// How many offending items an error lists.
-pub(crate) const ERROR_EXAMPLES: usize = 5;
-
-/// Computes `op` on `operands`: union or intersection of all, or the first minus all others.
+/// Computes `op` on `operands`: union or intersection of all, the first minus all others, or
+/// the points in an odd number of them (see [`Operation`]).
 ///
 /// Every decision is exact (see the [module docs](super)). Empty operands are the empty set.
 ///
@@ -327,7 +164,8 @@ pub(crate) const ERROR_EXAMPLES: usize = 5;
 /// Two unit cubes sharing a face make a 2 × 1 × 1 box.
 /// ```
 /// use csgkit::primitives::cuboid;
-/// use csgkit::exact::{BooleanOptions, Operation, boolean};
+/// use csgkit::exact::{BooleanOptions, boolean};
+/// use csgkit::Operation;
 /// let a = cuboid([0.0; 3], [1.0; 3]);
 /// let b = cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]);
 /// let result = boolean(Operation::Union, &[&a, &b], &BooleanOptions::default()).unwrap();
@@ -337,39 +175,45 @@ pub(crate) const ERROR_EXAMPLES: usize = 5;
 /// ```
 ///
 /// # Errors
-/// [`BooleanError`] for an operand that is not a solid, or [`BooleanError::Cancelled`].
+/// [`BooleanError`] for an operand that is not a solid ([`BooleanError::InvalidOperand`]), or
+/// a result without a certified f64 form.
 pub fn boolean(
     op: Operation,
     operands: &[&Mesh],
     options: &BooleanOptions,
 ) -> Result<Boolean, BooleanError> {
-    boolean_expression(&Expression::of(op, operands.len()), operands, options)
+    let expression = Expression::of(op, operands.len());
+    boolean_expression(&expression, operands, options, &Progress::default())
 }
 
 /// Computes `expression` over `operands` (operand `k` is `Expression::Operand(k)`) in one
 /// exact arrangement of all of them, rounded once: a CSG tree without a chain of binary
-/// booleans. Otherwise as [`boolean`].
+/// booleans, reporting its stages to `progress` (which can cancel it, from inside the long
+/// stages). Otherwise as [`boolean`].
 ///
 /// # Example
 /// (A ∪ B) − C for three unit cubes in a row, C overlapping B by half.
 /// ```
 /// use csgkit::primitives::cuboid;
-/// use csgkit::exact::{BooleanOptions, Expression, Operation, boolean_expression};
+/// use csgkit::exact::{BooleanOptions, Expression, boolean_expression};
+/// use csgkit::{Operation, Progress};
 /// let cubes: Vec<_> = [0.0, 1.0, 1.5].iter().map(|&x| cuboid([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0])).collect();
 /// let union = Expression::Apply(Operation::Union, vec![Expression::Operand(0), Expression::Operand(1)]);
 /// let tree = Expression::Apply(Operation::Difference, vec![union, Expression::Operand(2)]);
 /// let operands: Vec<_> = cubes.iter().collect();
-/// let result = boolean_expression(&tree, &operands, &BooleanOptions::default()).unwrap();
+/// let options = BooleanOptions::default();
+/// let result = boolean_expression(&tree, &operands, &options, &Progress::default()).unwrap();
 /// assert_eq!(result.mesh.report().measures.volume, 1.5);
 /// ```
 ///
 /// # Errors
 /// As [`boolean`]; [`BooleanError::Unsupported`] if `expression` names an operand that is
-/// not given.
+/// not given, [`BooleanError::Cancelled`] once `progress` is cancelled.
 pub fn boolean_expression(
     expression: &Expression,
     operands: &[&Mesh],
     options: &BooleanOptions,
+    progress: &Progress,
 ) -> Result<Boolean, BooleanError> {
     if operands.is_empty() {
         return Err(BooleanError::NoOperands);
@@ -382,32 +226,47 @@ pub fn boolean_expression(
         )));
     }
     let mut stats = BooleanStats::default();
-    let mut clock = StageClock::new(options.progress);
-    let mut rounded = exact_result(expression, operands, options, None, &mut stats, &mut clock)?;
+    let mut clock = StageClock::new(progress);
+    let mut rounded = exact_result(
+        expression, operands, options, None, &mut stats, &mut clock, progress,
+    )?;
     if let Some(delta) = options.simplify {
         let removed;
         (rounded, removed) = simplify::simplify(rounded, operands, delta);
         stats.removed_vertices += removed;
-        clock.finish(Stage::Simplify, &mut stats)?;
+        clock.end(Stage::Simplify)?;
     }
 
     // Re-refinement of a snapped soup: its union alone, where folds rounding turned inside
-    // out (winding number −1) are outside.
+    // out (winding number −1) are outside. Its stages are not the caller's: it polls the
+    // caller's cancellation but reports nothing.
     let refine_options = BooleanOptions {
         check_self_intersections: true,
         winding: WindingRule::Positive,
         ..BooleanOptions::default()
     };
-    let (mesh, certificate) = certify::certify(rounded, |soup, suspects| {
-        let mut inner = BooleanStats::default();
+    let silent = progress.silent();
+    let (mesh, certificate) = certify::certify(rounded, progress, |soup, suspects| {
         exact_result(
             &Expression::of(Operation::Union, 1),
             &[soup],
             &refine_options,
             Some(suspects),
-            &mut inner,
-            &mut StageClock::new(None),
+            &mut BooleanStats::default(),
+            &mut StageClock::new(&silent),
+            &silent,
         )
+        .ok()
+    })
+    .map_err(|error| match error {
+        CertifyError::NotCertified {
+            crossing_pairs,
+            degenerate_faces,
+        } => BooleanError::NotCertified {
+            crossing_pairs,
+            degenerate_faces,
+        },
+        CertifyError::Cancelled(cancelled) => cancelled.into(),
     })?;
     stats.rounded_vertices = certificate.rounded_vertices;
     stats.snapped_vertices = certificate.snapped_vertices;
@@ -415,16 +274,26 @@ pub fn boolean_expression(
     stats.certify_rounds = certificate.rounds;
     stats.dissolved_slivers = certificate.dissolved_slivers;
     stats.output_triangles = mesh.face_count();
-    clock.finish(Stage::Certify, &mut stats)?;
+    clock.record(Stage::Certify);
     let mut mesh = crate::mesh::merge_faces(mesh, options.faces, operands);
     if options.split_non_manifold {
         mesh = crate::mesh::split_non_manifold(&mesh);
     }
     stats.output_faces = mesh.face_count();
-    clock.finish(Stage::Faces, &mut stats)?;
+    clock.end(Stage::Faces)?;
     let mesh = crate::mesh::inherit_attributes(mesh, operands);
-    clock.finish(Stage::Attributes, &mut stats)?;
+    clock.end(Stage::Attributes)?;
+    stats.stage_seconds = clock.into_seconds();
     Ok(Boolean { mesh, stats })
+}
+
+impl From<StageError> for BooleanError {
+    fn from(error: StageError) -> Self {
+        match error {
+            StageError::Unsupported(reason) => BooleanError::Unsupported(reason),
+            StageError::Cancelled(cancelled) => BooleanError::Cancelled(cancelled),
+        }
+    }
 }
 
 /// The stages from ingest to assemble: the exact result, rounded to f64 once. With
@@ -438,18 +307,19 @@ fn exact_result(
     suspects: Option<&[Point3]>,
     stats: &mut BooleanStats,
     clock: &mut StageClock,
+    progress: &Progress,
 ) -> Result<Rounded, BooleanError> {
     let input = ingest::ingest(operands)?;
     stats.input_triangles = input.triangles.len();
-    clock.finish(Stage::Ingest, stats)?;
+    clock.end(Stage::Ingest)?;
 
     let (self_pairs, general) = if options.check_self_intersections {
         let pairs = match suspects {
-            None => ingest::self_intersecting_pairs(&input),
+            None => ingest::self_intersecting_pairs(&input, progress)?,
             Some(at) => ingest::self_intersecting_pairs_at(&input, at),
         };
         let general = !pairs.is_empty() || winding::has_nested_shells(&input);
-        clock.finish(Stage::Validate, stats)?;
+        clock.record(Stage::Validate);
         (pairs, general)
     } else {
         (Vec::new(), false)
@@ -463,15 +333,15 @@ fn exact_result(
         pairs.sort_unstable();
     }
     stats.candidate_pairs = pairs.len();
-    clock.finish(Stage::Broad, stats)?;
+    clock.end(Stage::Broad)?;
 
-    let contacts = subdivide::intersect_pairs(&input, &pairs);
+    let contacts = subdivide::intersect_pairs(&input, &pairs, progress)?;
     stats.intersecting_pairs = contacts.intersecting_pairs;
-    clock.finish(Stage::Intersect, stats)?;
+    clock.record(Stage::Intersect);
 
-    let arrangement = subdivide::split(&input, contacts)?;
+    let arrangement = subdivide::split(&input, contacts, progress)?;
     stats.split_triangles = arrangement.split_triangles;
-    clock.finish(Stage::Split, stats)?;
+    clock.record(Stage::Split);
 
     // Local classification labels every patch that touches a classified one; where a whole
     // operand's surface lies on others' (a cube among touching cubes on every side), it
@@ -479,34 +349,33 @@ fn exact_result(
     let labels = if general {
         None
     } else {
-        match classify::classify(&input, &arrangement) {
+        match classify::classify(&input, &arrangement, progress) {
             Ok(labels) => Some(labels),
-            Err(BooleanError::Unsupported(_)) => None,
-            Err(error) => return Err(error),
+            Err(StageError::Unsupported(_)) => None,
+            Err(error) => return Err(error.into()),
         }
     };
     let kept = match labels {
         Some(labels) => {
             stats.patches = labels.patch_count();
-            clock.finish(Stage::Classify, stats)?;
             select::select(expression, &input, &arrangement, &labels)
         }
         None => {
             let (patch_of, patch_count) = classify::patch_partition(&input, &arrangement);
             stats.patches = patch_count;
             stats.winding_classification = true;
-            let kept = winding::select(
+            winding::select(
                 expression,
                 options.winding,
                 &input,
                 &arrangement,
                 &patch_of,
                 patch_count,
-            )?;
-            clock.finish(Stage::Classify, stats)?;
-            kept
+                progress,
+            )?
         }
     };
+    clock.record(Stage::Classify);
     let faces = reconstruct::reconstruct(
         &input,
         &arrangement,
@@ -518,36 +387,8 @@ fn exact_result(
         },
     );
     stats.removed_vertices = faces.removed_vertices;
-    clock.finish(Stage::Reconstruct, stats)?;
+    clock.end(Stage::Reconstruct)?;
     let rounded = assemble::assemble(&input, &arrangement, faces);
-    clock.finish(Stage::Assemble, stats)?;
+    clock.end(Stage::Assemble)?;
     Ok(rounded)
-}
-
-/// Times consecutive stages and reports each to the progress callback.
-struct StageClock<'a> {
-    start: Instant,
-    progress: Option<ProgressFn<'a>>,
-}
-
-impl<'a> StageClock<'a> {
-    fn new(progress: Option<ProgressFn<'a>>) -> Self {
-        Self {
-            start: Instant::now(),
-            progress,
-        }
-    }
-
-    /// Records the time since the last stage ended; `Cancelled` if the callback says stop.
-    fn finish(&mut self, stage: Stage, stats: &mut BooleanStats) -> Result<(), BooleanError> {
-        let now = Instant::now();
-        stats
-            .stage_seconds
-            .push((stage, (now - self.start).as_secs_f64()));
-        self.start = now;
-        match self.progress {
-            Some(report) if !report(stage, 1, 1) => Err(BooleanError::Cancelled),
-            _ => Ok(()),
-        }
-    }
 }

@@ -41,9 +41,10 @@ use crate::index::{Aabb, Bvh};
 use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane};
 use crate::mesh::union_find::UnionFind;
 
-use super::boolean::BooleanError;
+use crate::progress::{Counter, Progress, Stage};
+
 use super::ingest::{Input, NO_NEIGHBOUR};
-use super::subdivide::Arrangement;
+use super::subdivide::{Arrangement, StageError};
 
 /// Where a patch lies relative to another operand, when not outside it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,12 +81,17 @@ pub(crate) fn patch_partition(input: &Input, arr: &Arrangement) -> (Vec<u32>, us
 /// Below this many rays, rays scan the triangles in parallel instead of building a BVH.
 const RAYS_WITHOUT_INDEX: usize = 8;
 
-/// Labels every patch.
+/// Labels every patch, reporting local tests and rays done to `progress`.
 ///
 /// # Errors
-/// [`BooleanError::Unsupported`] when a patch has neither a clean vertex nor an edge where a
-/// local test applies (only around non-manifold edges of several operands at once).
-pub(crate) fn classify(input: &Input, arr: &Arrangement) -> Result<Labels, BooleanError> {
+/// [`StageError::Unsupported`] when a patch has neither a clean vertex nor an edge where a
+/// local test applies (only around non-manifold edges of several operands at once);
+/// [`StageError::Cancelled`].
+pub(crate) fn classify(
+    input: &Input,
+    arr: &Arrangement,
+    progress: &Progress,
+) -> Result<Labels, StageError> {
     let edges = EdgeGroups::new(input, arr);
     let (patch_of, patch_count) = patches(input, arr, &edges);
     let operand_count = input.operand_count();
@@ -101,11 +107,18 @@ pub(crate) fn classify(input: &Input, arr: &Arrangement) -> Result<Labels, Boole
     }
     contacts.sort_unstable();
     let by_patch: Vec<&[(u32, u32, u32)]> = contacts.chunk_by(|x, y| x.0 == y.0).collect();
+    // Units: one local test per patch with contacts, then one ray per patch (at most); the
+    // patches that need no ray are counted when the rays are known.
+    let counter = progress.counter(Stage::Classify, by_patch.len() + patch_count);
     let mut local = vec![LocalLabels::default(); patch_count];
-    let found: Vec<(u32, LocalLabels)> = by_patch
-        .par_iter()
-        .map(|c| (c[0].0, local_labels(input, arr, &edges, c)))
-        .collect();
+    let found: Vec<(u32, LocalLabels)> = counter.par_chunks(&by_patch, |chunk, out| {
+        out.extend(
+            chunk
+                .iter()
+                .map(|c| (c[0].0, local_labels(input, arr, &edges, c))),
+        );
+    });
+    progress.check()?;
     for (p, l) in found {
         local[p as usize] = l;
     }
@@ -116,7 +129,10 @@ pub(crate) fn classify(input: &Input, arr: &Arrangement) -> Result<Labels, Boole
     let (ray_patches, rays): (Vec<usize>, Vec<(u32, u32)>) = (ray_from.iter().enumerate())
         .filter_map(|(p, v)| v.map(|v| (p, v)))
         .unzip();
-    for (p, inside) in ray_patches.into_iter().zip(cast_rays(input, &rays)) {
+    counter.advance(patch_count - rays.len());
+    let cast = cast_rays(input, &rays, &counter);
+    counter.finish()?;
+    for (p, inside) in ray_patches.into_iter().zip(cast) {
         let own = &local[p];
         let mut merged: Vec<(u32, Label)> = (inside.into_iter())
             .filter(|(k, _)| !own.touched.contains(k))
@@ -140,7 +156,7 @@ pub(crate) fn classify(input: &Input, arr: &Arrangement) -> Result<Labels, Boole
     let labels = (labels.into_iter().enumerate())
         .map(|(p, l)| {
             l.ok_or_else(|| {
-                BooleanError::Unsupported(format!("surface patch {p} could not be classified"))
+                StageError::Unsupported(format!("surface patch {p} could not be classified"))
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -294,8 +310,9 @@ fn ray_vertices(
 }
 
 /// The labels of each patch at its clean vertex, by exact ray casting: `rays` holds
-/// `(vertex, operand of the patch)`.
-fn cast_rays(input: &Input, rays: &[(u32, u32)]) -> Vec<Vec<(u32, Label)>> {
+/// `(vertex, operand of the patch)`; each ray advances `counter`, and after a cancellation
+/// the labels are incomplete.
+fn cast_rays(input: &Input, rays: &[(u32, u32)], counter: &Counter) -> Vec<Vec<(u32, Label)>> {
     let ray_box = |v: Point3| Aabb {
         min: v,
         max: [f64::INFINITY, v[1], v[2]],
@@ -333,6 +350,7 @@ fn cast_rays(input: &Input, rays: &[(u32, u32)]) -> Vec<Vec<(u32, Label)>> {
                             && super::broad::triangle_box(input, t as usize).overlaps(&query)
                     })
                     .collect();
+                counter.advance(1);
                 labels_at(pos, own, &mut hits.into_iter())
             })
             .collect();
@@ -342,14 +360,14 @@ fn cast_rays(input: &Input, rays: &[(u32, u32)]) -> Vec<Vec<(u32, Label)>> {
         .map(|t| super::broad::triangle_box(input, t))
         .collect();
     let tree = Bvh::build(&boxes);
-    rays.par_iter()
-        .map(|&(v, own)| {
+    counter.par_chunks(rays, |chunk, out| {
+        for &(v, own) in chunk {
             let pos = input.positions[v as usize];
             let mut hits = Vec::new();
             tree.visit_overlapping(&ray_box(pos), |t| hits.push(t));
-            labels_at(pos, own, &mut hits.into_iter())
-        })
-        .collect()
+            out.push(labels_at(pos, own, &mut hits.into_iter()));
+        }
+    })
 }
 
 /// The signed crossing of the ray from `v` along +x with triangle `tri`: +1 leaving through
@@ -499,7 +517,7 @@ fn propagate(
     patch_of: &[u32],
     labels: &mut [Option<Vec<(u32, Label)>>],
     mut pending: Vec<(u32, LocalLabels)>,
-) -> Result<(), BooleanError> {
+) -> Result<(), StageError> {
     if pending.is_empty() {
         return Ok(());
     }
@@ -543,7 +561,7 @@ fn propagate(
             false
         });
         if pending.len() == before {
-            return Err(BooleanError::Unsupported(format!(
+            return Err(StageError::Unsupported(format!(
                 "{} surface patches touch no classified patch",
                 pending.len()
             )));

@@ -36,9 +36,86 @@ use rayon::prelude::*;
 use crate::index::Aabb;
 use crate::kernel::Point3;
 use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces, weld_positions};
+use crate::progress::{Cancelled, Progress, Stage};
 
-use super::boolean::{BooleanError, ERROR_EXAMPLES};
 use super::intersect::Triangle;
+
+/// Why an operand cannot enter the exact engine: it is not a closed, outward solid of finite
+/// coordinates. Every variant names the operand (its index in the order given) and where the
+/// problem is.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum InvalidOperand {
+    /// A vertex has a NaN or infinite coordinate.
+    ///
+    /// *How to fix*: repair or remove the vertex.
+    #[error("operand {operand}: vertex {vertex} has a non-finite coordinate")]
+    NonFinite {
+        /// The operand.
+        operand: usize,
+        /// The vertex index in that operand.
+        vertex: u32,
+    },
+    /// A polygon of the operand cannot be triangulated: its projection overlaps itself, or it
+    /// has zero area (see [`PolygonError`], which names the face).
+    ///
+    /// *How to fix*: split the face into simple polygons, or remove it if it has no area
+    /// (`csgkit check` lists such faces).
+    #[error("operand {operand}: {error}")]
+    InvalidPolygon {
+        /// The operand.
+        operand: usize,
+        /// The face and what is wrong with it.
+        error: PolygonError,
+    },
+    /// Some edges are not used equally often in both directions: the operand has holes or
+    /// inconsistently oriented faces, so it does not bound a solid.
+    ///
+    /// *How to fix*: close the holes and orient the faces consistently (`csgkit check`
+    /// lists them).
+    #[error(
+        "operand {operand} is not closed and consistently oriented: {count} edges are unbalanced, first {}",
+        format_edges(first)
+    )]
+    NotClosed {
+        /// The operand.
+        operand: usize,
+        /// How many edges are unbalanced.
+        count: usize,
+        /// The first few, as pairs of the operand's vertex indices.
+        first: Vec<[u32; 2]>,
+    },
+    /// The operand is oriented inward (negative volume).
+    ///
+    /// *How to fix*: reverse every face.
+    #[error("operand {operand} is oriented inward (its volume {volume} is negative)")]
+    Inverted {
+        /// The operand.
+        operand: usize,
+        /// Its signed volume.
+        volume: f64,
+    },
+}
+
+impl InvalidOperand {
+    /// The index of the operand at fault, in the order given.
+    pub fn operand(&self) -> usize {
+        match *self {
+            InvalidOperand::NonFinite { operand, .. }
+            | InvalidOperand::InvalidPolygon { operand, .. }
+            | InvalidOperand::NotClosed { operand, .. }
+            | InvalidOperand::Inverted { operand, .. } => operand,
+        }
+    }
+}
+
+fn format_edges(edges: &[[u32; 2]]) -> String {
+    let list: Vec<String> = edges.iter().map(|[a, b]| format!("{a}–{b}")).collect();
+    list.join(", ")
+}
+
+/// How many unbalanced edges [`InvalidOperand::NotClosed`] lists.
+const ERROR_EXAMPLES: usize = 5;
 
 /// "No neighbour" in [`Input::neighbours`].
 pub(crate) const NO_NEIGHBOUR: u32 = u32::MAX;
@@ -80,16 +157,16 @@ impl Input {
 /// Builds the [`Input`] of `operands`.
 ///
 /// # Errors
-/// [`BooleanError::NonFinite`], [`BooleanError::InvalidPolygon`], [`BooleanError::NotClosed`]
-/// or [`BooleanError::Inverted`], naming the first operand that fails.
-pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
+/// [`InvalidOperand::NonFinite`], [`InvalidOperand::InvalidPolygon`], [`InvalidOperand::NotClosed`]
+/// or [`InvalidOperand::Inverted`], naming the first operand that fails.
+pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
     for (k, mesh) in operands.iter().enumerate() {
         if let Some(v) = mesh
             .positions()
             .iter()
             .position(|p| !p.iter().all(|x| x.is_finite()))
         {
-            return Err(BooleanError::NonFinite {
+            return Err(InvalidOperand::NonFinite {
                 operand: k,
                 vertex: v as u32,
             });
@@ -116,7 +193,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
         let start = triangles.len();
         let dropped = add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles)
-            .map_err(|error| BooleanError::InvalidPolygon { operand: k, error })?;
+            .map_err(|error| InvalidOperand::InvalidPolygon { operand: k, error })?;
         degenerate.extend(dropped.into_iter().map(|t| (k as u32, t)));
         operand.extend(std::iter::repeat_n(k as u32, triangles.len() - start));
         vertex_offset += mesh.vertex_count();
@@ -146,7 +223,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, BooleanError> {
     for k in 0..operands.len() {
         let volume = signed_volume(&input, k);
         if volume < 0.0 {
-            return Err(BooleanError::Inverted {
+            return Err(InvalidOperand::Inverted {
                 operand: k,
                 volume: volume / (input.scale * input.scale * input.scale),
             });
@@ -229,7 +306,7 @@ fn link_edges(
     operands: &[&Mesh],
     remap: &[u32],
     offsets: &[usize],
-) -> Result<Vec<u32>, BooleanError> {
+) -> Result<Vec<u32>, InvalidOperand> {
     // One record per side, bucketed by its smaller vertex (a counting sort: linear, unlike
     // one sort of all sides), then each small bucket sorted by (larger vertex, operand).
     let side_count = 3 * input.triangles.len();
@@ -314,7 +391,7 @@ fn link_edges(
         start = end;
     }
     if let Some(k) = unbalanced_count.iter().position(|&c| c > 0) {
-        return Err(BooleanError::NotClosed {
+        return Err(InvalidOperand::NotClosed {
             operand: k,
             count: unbalanced_count[k],
             first: std::mem::take(&mut unbalanced[k]),
@@ -339,16 +416,26 @@ fn signed_volume(input: &Input, k: usize) -> f64 {
 /// Every pair of triangles of one operand that intersect other than along what they share
 /// (global triangle ids, `(smaller, larger)`), operand by operand: the exact check of
 /// [`self_intersections`](super::self_intersections), whose pairs the driver adds to the
-/// arrangement.
-pub(crate) fn self_intersecting_pairs(input: &Input) -> Vec<(u32, u32)> {
+/// arrangement. Each operand checked is reported to `progress`.
+///
+/// # Errors
+/// [`Cancelled`] when the run was cancelled.
+pub(crate) fn self_intersecting_pairs(
+    input: &Input,
+    progress: &Progress,
+) -> Result<Vec<(u32, u32)>, Cancelled> {
+    let counter = progress.counter(Stage::Validate, input.operand_count());
     let mut all = Vec::new();
     for k in 0..input.operand_count() {
         let range = input.operand_triangles(k);
         let offset = range.start as u32;
         let pairs = super::self_intersect::intersecting_pairs(&input.triangles[range]);
         all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
+        counter.advance(1);
+        progress.check()?;
     }
-    all
+    counter.finish()?;
+    Ok(all)
 }
 
 /// The pairs of [`self_intersecting_pairs`] that involve a triangle with a vertex at one of

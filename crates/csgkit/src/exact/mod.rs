@@ -40,12 +40,21 @@
 //!     ([`inherit_attributes`](crate::mesh::inherit_attributes)).
 //!
 //! [`boolean`] runs them in order; the exact predicates are in [`kernel`](crate::kernel).
+//! [`boolean_expression`] reports every stage to a [`Progress`](crate::Progress), and the
+//! long ones (validate, intersect, split, classify, certify) report and poll it per chunk of
+//! their parallel work, so a cancellation stops the run inside the stage.
+//!
+//! The driver, `boolean.rs`, imports the stages and no stage imports it: each returns its
+//! own error ([`InvalidOperand`] from ingest; an unsupported configuration or a cancellation
+//! from split, classify and winding; a result without a certified f64 form from certify),
+//! which [`BooleanError`] wraps.
 
 mod assemble;
 mod boolean;
 mod broad;
 mod certify;
 mod classify;
+mod expression;
 mod ingest;
 pub mod intersect;
 mod reconstruct;
@@ -58,9 +67,10 @@ mod subdivide;
 mod winding;
 
 pub use boolean::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, Operation, ProgressFn, Stage,
-    boolean, boolean_expression,
+    Boolean, BooleanError, BooleanOptions, BooleanStats, boolean, boolean_expression,
 };
+pub use expression::Expression;
+pub use ingest::InvalidOperand;
 pub use intersect::{
     Contact, Feature, Intersection, PointKey, Triangle, TriangleEdge, intersect_triangles,
 };

@@ -11,11 +11,18 @@
 //! faces coincide is kept once, from the lowest operand: a sub-triangle lying on the surface
 //! of a lower operand is dropped, since that operand's coincident face makes the same
 //! decision.
+//!
+//! Nothing here is particular to an operation: the expression is evaluated on the two sides
+//! of each patch, so every [`Operation`](crate::Operation) follows the same rule. For the
+//! symmetric difference (parity) the coincident cases come out as they should: two faces
+//! facing the same way have both operands outside in front and inside behind, two facing
+//! opposite ways have exactly one operand inside on either side; either way both sides agree
+//! and the region bounds nothing.
 
 use rayon::prelude::*;
 
-use super::boolean::Expression;
 use super::classify::{Label, Labels};
+use super::expression::Expression;
 use super::ingest::Input;
 use super::subdivide::Arrangement;
 
@@ -92,7 +99,7 @@ mod tests {
 
     #[test]
     fn the_paper_table_for_two_operands() {
-        use super::super::boolean::Operation::*;
+        use crate::Operation::*;
         use Label::*;
         // (op, own, label of the other, expected)
         let cases = [
@@ -112,6 +119,12 @@ mod tests {
             (Intersection, 0, Some(OnOpposite), None),
             (Difference, 0, Some(OnSame), None),
             (Difference, 0, Some(OnOpposite), Some(false)),
+            (Xor, 0, None, Some(false)),
+            (Xor, 0, Some(Inside), Some(true)),
+            (Xor, 1, Some(Inside), Some(true)),
+            (Xor, 0, Some(OnSame), None),
+            (Xor, 0, Some(OnOpposite), None),
+            (Xor, 1, Some(OnSame), None),
         ];
         for (op, own, label, expected) in cases {
             let other = 1 - own;

@@ -26,11 +26,27 @@ use rustc_hash::FxHashMap;
 use crate::index::Aabb;
 use crate::kernel::{Point, Sign, compare_lex, orient2d_projected, simplify};
 use crate::mesh::union_find::UnionFind;
+use crate::progress::{Cancelled, Progress, Stage};
 
-use super::boolean::BooleanError;
 use super::ingest::Input;
 use super::intersect::{Contact, Feature, Intersection, PointKey, Triangle, intersect_triangles};
 use super::split::split_triangle;
+
+/// Why a stage after the intersections (split, classify, winding) stopped without a result.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum StageError {
+    /// A configuration the stage cannot handle; the message says which. The driver turns it
+    /// into `BooleanError::Unsupported`, or, from classify, tries winding numbers instead.
+    Unsupported(String),
+    /// The caller cancelled the run.
+    Cancelled(Cancelled),
+}
+
+impl From<Cancelled> for StageError {
+    fn from(cancelled: Cancelled) -> Self {
+        StageError::Cancelled(cancelled)
+    }
+}
 
 /// What one intersecting pair puts on one of its triangles.
 // Points and segments are about equally many, so boxing the point would only add an
@@ -63,24 +79,32 @@ pub(crate) struct Contacts {
     marks: Vec<(u32, Mark)>,
 }
 
-/// Intersects every candidate pair exactly.
-pub(crate) fn intersect_pairs(input: &Input, pairs: &[(u32, u32)]) -> Contacts {
-    let found: Vec<Vec<(u32, Mark)>> = pairs
-        .par_iter()
-        .filter_map(|&(s, t)| {
+/// Intersects every candidate pair exactly, reporting pairs done to `progress`.
+///
+/// # Errors
+/// [`Cancelled`] when the run was cancelled.
+pub(crate) fn intersect_pairs(
+    input: &Input,
+    pairs: &[(u32, u32)],
+    progress: &Progress,
+) -> Result<Contacts, Cancelled> {
+    let counter = progress.counter(Stage::Intersect, pairs.len());
+    let found: Vec<Vec<(u32, Mark)>> = counter.par_chunks(pairs, |chunk, out| {
+        out.extend(chunk.iter().filter_map(|&(s, t)| {
             let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
             let marks = marks_of(a, b, intersect_triangles(a, b));
             (!marks.is_empty()).then_some(marks)
-        })
-        .collect();
+        }));
+    });
+    counter.finish()?;
     let intersecting_pairs = found.len();
     let mut marks: Vec<(u32, Mark)> = found.into_iter().flatten().collect();
     // Stable: within a triangle, marks keep pair order, which is deterministic.
     marks.par_sort_by_key(|m| m.0);
-    Contacts {
+    Ok(Contacts {
         intersecting_pairs,
         marks,
-    }
+    })
 }
 
 /// The marks an intersection of triangles `a` and `b` puts on each of them.
@@ -168,19 +192,30 @@ impl Arrangement {
     }
 }
 
-/// Splits every triangle with contacts.
+/// Splits every triangle with contacts, reporting triangles done to `progress`.
 ///
 /// # Errors
-/// [`BooleanError::Unsupported`] when a triangle's constraints cross away from the contact
-/// points (needs three-plane points that pairs of operands do not produce).
-pub(crate) fn split(input: &Input, contacts: Contacts) -> Result<Arrangement, BooleanError> {
+/// [`StageError::Unsupported`] when a triangle's constraints cross away from the contact
+/// points (needs three-plane points that pairs of operands do not produce);
+/// [`StageError::Cancelled`].
+pub(crate) fn split(
+    input: &Input,
+    contacts: Contacts,
+    progress: &Progress,
+) -> Result<Arrangement, StageError> {
     let marks = contacts.marks;
     let (ids, points) = number_points(input, &marks);
     let groups: Vec<&[(u32, Mark)]> = marks.chunk_by(|x, y| x.0 == y.0).collect();
-    let splits: Vec<Result<TriangleSplit, BooleanError>> = groups
-        .par_iter()
-        .map(|group| split_one(input, group, &ids, &points))
-        .collect();
+    let counter = progress.counter(Stage::Split, groups.len());
+    let splits: Vec<Result<TriangleSplit, StageError>> =
+        counter.par_chunks(&groups, |chunk, out| {
+            out.extend(
+                chunk
+                    .iter()
+                    .map(|group| split_one(input, group, &ids, &points)),
+            );
+        });
+    counter.finish()?;
     let mut splits: Vec<TriangleSplit> = splits.into_iter().collect::<Result<_, _>>()?;
     let points = number_crossings(input, points, &ids, &mut splits);
 
@@ -338,7 +373,7 @@ fn split_one(
     group: &[(u32, Mark)],
     ids: &FxHashMap<PointKey, u32>,
     contact_points: &[Point],
-) -> Result<TriangleSplit, BooleanError> {
+) -> Result<TriangleSplit, StageError> {
     let t = group[0].0;
     let tri = &input.triangles[t as usize];
     // Local ids: corners 0..3, then points in first-seen order; `global` holds their ids.
@@ -381,7 +416,7 @@ fn split_one(
     }
     let segments: Vec<[u32; 2]> = segments.iter().map(|s| s.0).collect();
     let split = split_triangle(tri.positions(), &points, &segments).map_err(|e| {
-        BooleanError::Unsupported(format!(
+        StageError::Unsupported(format!(
             "splitting face {} of operand {}: {e}",
             input.face[t as usize].index(),
             input.operand[t as usize]

@@ -49,11 +49,13 @@ use crate::kernel::{
 };
 use crate::mesh::union_find::UnionFind;
 
-use super::boolean::{BooleanError, Expression};
+use crate::progress::{Progress, Stage};
+
+use super::expression::Expression;
 use super::ingest::{Input, NO_NEIGHBOUR};
 use super::intersect::Triangle;
 use super::select::Kept;
-use super::subdivide::Arrangement;
+use super::subdivide::{Arrangement, StageError};
 
 /// Which winding numbers count as inside an operand.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -260,11 +262,12 @@ pub(crate) fn sample_point(
 }
 
 /// The kept sub-triangles of `expression` under `rule`, decided by the winding numbers at every
-/// patch.
+/// patch; each ray cast is reported to `progress`.
 ///
 /// # Errors
-/// [`BooleanError::Unsupported`] when a patch has no sub-triangle wide enough to hold an f64
-/// sample point strictly inside.
+/// [`StageError::Unsupported`] when a patch has no sub-triangle wide enough to hold an f64
+/// sample point strictly inside; [`StageError::Cancelled`].
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn select(
     expression: &Expression,
     rule: WindingRule,
@@ -272,7 +275,8 @@ pub(crate) fn select(
     arr: &Arrangement,
     patch_of: &[u32],
     patch_count: usize,
-) -> Result<Kept, BooleanError> {
+    progress: &Progress,
+) -> Result<Kept, StageError> {
     let corners = |s: usize| arr.triangles[s].map(|v| arr.point(input, v));
     // The first sub-triangle of each patch that holds a sample point.
     let mut samples: Vec<Option<(u32, SamplePoint)>> = vec![None; patch_count];
@@ -290,9 +294,15 @@ pub(crate) fn select(
         }
     }
     let caster = RayCaster::new(input);
-    let mut found: Vec<Option<Sample>> = (samples.par_iter())
-        .map(|sample| sample.as_ref().map(|(_, at)| caster.cast(at)))
-        .collect();
+    let counter = progress.counter(Stage::Classify, samples.len());
+    let mut found: Vec<Option<Sample>> = counter.par_chunks(&samples, |chunk, out| {
+        out.extend(
+            chunk
+                .iter()
+                .map(|sample| sample.as_ref().map(|(_, at)| caster.cast(at))),
+        );
+    });
+    counter.finish()?;
     if missing > 0 {
         propagate_to_slivers(input, arr, patch_of, &mut found)?;
     }
@@ -352,7 +362,7 @@ fn propagate_to_slivers(
     arr: &Arrangement,
     patch_of: &[u32],
     found: &mut [Option<Sample>],
-) -> Result<(), BooleanError> {
+) -> Result<(), StageError> {
     let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
     let pending: Vec<u32> = (0..arr.triangles.len() as u32)
         .filter(|&s| found[patch_of[s as usize] as usize].is_none())
@@ -433,7 +443,7 @@ fn propagate_to_slivers(
         }
         if !progress {
             let p = found.iter().position(Option::is_none).unwrap_or(0);
-            return Err(BooleanError::Unsupported(format!(
+            return Err(StageError::Unsupported(format!(
                 "surface patch {p} has no sub-triangle wide enough to sample and no sampled \
                  neighbour in its face"
             )));

@@ -9,8 +9,8 @@
 //! point whose `W` is exactly zero does not exist and is refused.
 
 use super::arith::Arith;
+use super::cascade::{Formula, Homogeneous, decide};
 use super::interval::{Interval, next_down, next_up};
-use super::predicates::{Formula, decide};
 use super::{Axis, Sign};
 
 /// A point given by three f64 coordinates.
@@ -131,6 +131,8 @@ fn tpi_hom<T: Arith>(planes: &[[Point3; 3]; 3], conv: &dyn Fn(f64) -> T) -> [T; 
 struct WSign<'a>(&'a Point);
 
 impl Formula for WSign<'_> {
+    type Point = Point;
+
     fn eval<T: Arith>(&self, hom: &dyn Fn(&Point) -> [T; 4], _conv: &dyn Fn(f64) -> T) -> T {
         let [_, _, _, w] = hom(self.0);
         w
@@ -316,10 +318,10 @@ impl Point {
             Point::Tpi(t) => t.w_sign,
         }
     }
+}
 
-    /// Homogeneous coordinates in number type `T`; `one` is the constant 1 of `T` (not
-    /// scaled by `conv`, so that the polynomials stay homogeneous).
-    pub(crate) fn hom<T: Arith>(&self, conv: &dyn Fn(f64) -> T, one: &T) -> [T; 4] {
+impl Homogeneous for Point {
+    fn hom<T: Arith>(&self, conv: &dyn Fn(f64) -> T, one: &T) -> [T; 4] {
         match self {
             Point::Explicit(p) => [conv(p[0]), conv(p[1]), conv(p[2]), one.clone()],
             Point::Lpi(l) => lpi_hom(&l.def, conv),
@@ -327,9 +329,8 @@ impl Point {
         }
     }
 
-    /// Homogeneous coordinates as intervals, cached for implicit points.
     #[inline]
-    pub(crate) fn filter_hom(&self) -> [Interval; 4] {
+    fn filter_hom(&self) -> [Interval; 4] {
         match self {
             Point::Explicit(p) => [
                 Interval::exact(p[0]),
@@ -342,8 +343,7 @@ impl Point {
         }
     }
 
-    /// Every defining f64 coordinate.
-    pub(crate) fn coords(&self) -> &[f64] {
+    fn coords(&self) -> &[f64] {
         match self {
             Point::Explicit(p) => p,
             Point::Lpi(l) => l.def.as_flattened(),

@@ -71,6 +71,19 @@
 //! 3. **Big integers** — every input is an integer times `2^e_min`; evaluation in `num-bigint`
 //!    is exact for every finite input.
 //!
+//! # Layout
+//! The files depend on each other in one direction, bottom to top:
+//! - `interval.rs`, `expansion.rs`, `arith.rs`: the three number types behind one trait;
+//! - `cascade.rs`: stages 1–3 for any `Formula`, a polynomial over points it sees only as
+//!   homogeneous coordinates;
+//! - `implicit.rs`: [`Point`], [`Lpi`], [`Tpi`], built by deciding the sign of `W` in the
+//!   cascade;
+//! - `formulas.rs`: the polynomials of the predicates (side of a plane, determinants,
+//!   coordinate differences);
+//! - `orient.rs`: [`orient2d`] and [`orient3d`], `robust` first and the cascade outside its
+//!   range; `predicates.rs`: the predicates on mixed points, which use them for explicit
+//!   arguments; `rounding.rs`: the nearest f64 point, for output.
+//!
 //! Cost (see `benches/README.md`): the filter answers a random LPI-against-plane query in
 //! about 100–200 ns, the exact stages a degenerate one in a few microseconds (expansions) to
 //! tens of microseconds (big integers, rare: wide bit spans or degree above 20).
@@ -91,7 +104,9 @@
 //! the directed line `a → b`.
 
 mod arith;
+mod cascade;
 mod expansion;
+mod formulas;
 mod implicit;
 mod interval;
 mod orient;

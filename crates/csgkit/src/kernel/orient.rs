@@ -12,7 +12,9 @@
 use robust::{Coord, Coord3D};
 
 use super::Sign;
-use super::predicates;
+use super::cascade::decide;
+use super::formulas::{Det3, PlaneSide};
+use super::implicit::{Point, Point3};
 
 /// `|x|` at or above this may overflow or underflow inside `robust`: `2^200`.
 const ROBUST_HIGH: f64 = f64::from_bits((1023 + 200) << 52);
@@ -39,7 +41,7 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
         );
         return Sign::of(v);
     }
-    predicates::orient2d_cascade(a, b, c)
+    orient2d_cascade(a, b, c)
 }
 
 /// Orientation of four points in space.
@@ -62,7 +64,25 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
         };
         return Sign::of(robust::orient3d(cv(a), cv(b), cv(c), cv(d)));
     }
-    predicates::orient3d_cascade(a, b, c, d)
+    orient3d_cascade(a, b, c, d)
+}
+
+/// [`orient3d`] through the cascade (for inputs outside `robust`'s safe range).
+fn orient3d_cascade(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+    decide(&PlaneSide {
+        tri: [a, b, c],
+        d: &Point::Explicit(d),
+    })
+}
+
+/// [`orient2d`] through the cascade (for inputs outside `robust`'s safe range).
+fn orient2d_cascade(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+    let lift = |p: [f64; 2]| Point::Explicit([p[0], p[1], 0.0]);
+    decide(&Det3 {
+        pts: [&lift(a), &lift(b), &lift(c)],
+        u: 0,
+        v: 1,
+    })
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@
 use num_bigint::BigInt;
 
 use super::arith::{Big, decompose};
+use super::cascade::Homogeneous;
 use super::implicit::{Point, Point3};
 
 /// The coordinates of `p` rounded to the nearest f64 (ties to even), each independently.

@@ -20,8 +20,9 @@ use num_traits::{Signed, Zero};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
+use super::cascade::{Formula, stages};
+use super::formulas::{AxisDiff, Det3, Det4, PlaneSide};
 use super::oracle::{Q, Q3, oracle_lpi, oracle_point, oracle_tpi, q, q3, qcross, qdot, qsub};
-use super::predicates::{AxisDiff, Det3, Det4, Formula, PlaneSide, stages};
 use super::*;
 
 fn qsign(x: &Q) -> Sign {

@@ -33,9 +33,10 @@
 
 use rayon::prelude::*;
 
+use crate::progress::{Progress, Stage};
+
 use super::OrthoError;
 use super::materials::FaceCorner;
-use super::progress::{ProgressFn, Stage, Tracker};
 use super::sweep::RankVertex;
 
 /// The orientation of a face: its outward normal, one of the six axis directions.
@@ -131,11 +132,15 @@ impl Copy2 {
 /// Steps 1–8 for every orientation: (orientation, faces) in orientation then plane order.
 ///
 /// Without `corners`, each vertex's degrees count copies on material 0; with them, the copies
-/// are the given face corners, and faces are extracted per material as well.
+/// are the given face corners, and faces are extracted per material as well. Each face plane
+/// done is reported to `progress`.
+///
+/// # Errors
+/// [`OrthoError::InconsistentDegrees`] (a broken invariant), [`OrthoError::Cancelled`].
 pub(crate) fn extract_faces(
     vertices: &[RankVertex],
     corners: Option<&[FaceCorner]>,
-    progress: Option<ProgressFn>,
+    progress: &Progress,
 ) -> Result<Vec<(Orientation, PlaneFace)>, OrthoError> {
     let per_orientation: Vec<Vec<Copy2>> = Orientation::ALL
         .par_iter()
@@ -151,18 +156,19 @@ pub(crate) fn extract_faces(
                 .map(move |p| (o, p))
         })
         .collect();
-    let tracker = Tracker::new(progress, Stage::Loops, planes.len());
+    let counter = progress.counter(Stage::Loops, planes.len());
     let per_plane: Vec<Result<Vec<PlaneFace>, OrthoError>> = planes
         .par_iter()
         .map(|&(o, p)| {
-            if tracker.cancelled() {
-                return Err(OrthoError::Cancelled);
+            if counter.is_cancelled() {
+                return Ok(Vec::new());
             }
             let faces = plane_faces(p, o);
-            tracker.tick();
+            counter.advance(1);
             faces
         })
         .collect();
+    counter.finish()?;
     let mut faces = Vec::new();
     for ((o, _), result) in planes.iter().zip(per_plane) {
         faces.extend(result?.into_iter().map(|f| (*o, f)));

@@ -19,9 +19,10 @@
 //! With one material this gives exactly the vertices and faces of the plain sweep (tested).
 //! Complexity: the plain sweep's, times the number of materials present on a plane.
 
+use crate::progress::Counter;
+
 use super::grid::RankedBoxes;
 use super::octant::{DegreeConvention, OCTANT_TABLE, classify_quadrants};
-use super::progress::Tracker;
 use super::rect2d::{Rect, scan_layers};
 use super::sweep::{RankVertex, for_each_plane};
 
@@ -43,11 +44,11 @@ pub(crate) struct FaceCorner {
 /// Every vertex of the material boundary (sorted by (z, y, x)) and its face corners.
 pub(crate) fn sweep_material_vertices(
     boxes: &RankedBoxes,
-    tracker: &Tracker,
+    counter: &Counter,
 ) -> (Vec<RankVertex>, Vec<FaceCorner>) {
     let slabs = material_slabs(boxes);
     let planes = boxes.coords[2].len();
-    let per_plane = for_each_plane(&slabs, planes, tracker, plane_vertices);
+    let per_plane = for_each_plane(&slabs, planes, counter, plane_vertices);
     let mut vertices = Vec::new();
     let mut corners = Vec::new();
     for (v, mut c) in per_plane.into_iter().flatten() {

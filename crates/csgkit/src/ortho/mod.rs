@@ -26,7 +26,8 @@
 //! # Variants and inputs
 //! - [`box_union_with_materials`] gives each face the material of the box behind it
 //!   (`materials`); [`box_union_per_material`] builds one solid per material.
-//! - [`box_union_timed`] reports stage times and progress, and can be cancelled (`progress`).
+//! - [`box_union_timed`] reports stage times and progress, and can be cancelled, through the
+//!   crate's one [`Progress`] context.
 //! - [`box_union_vertices`] gives the vertices under any [`DegreeConvention`], including the
 //!   paper's; [`rect_union_corners`] is the 2D algorithm alone.
 //! - [`parse_boxes`] reads the box text format, [`read_vox`] MagicaVoxel files.
@@ -55,7 +56,6 @@ mod grid;
 mod manifold;
 mod materials;
 mod octant;
-mod progress;
 mod random;
 mod rect2d;
 mod sweep;
@@ -65,13 +65,14 @@ mod vox;
 pub use boxes_text::{BoxesTextError, parse_boxes};
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
-pub use progress::{ProgressFn, Stage};
 pub use random::random_grid_boxes;
 pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
 pub use vox::{VoxBoxes, VoxOptions, read_vox};
 
 use grid::RankedBoxes;
 use rayon::prelude::*;
+
+use crate::progress::{Cancelled, Progress, Stage, StageClock};
 
 /// Why a box union failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -117,9 +118,9 @@ pub enum OrthoError {
         /// The first broken invariant, from [`BRep::check_invariants`].
         reason: String,
     },
-    /// The progress callback asked to stop.
-    #[error("cancelled")]
-    Cancelled,
+    /// The run was cancelled through its [`Progress`].
+    #[error(transparent)]
+    Cancelled(#[from] Cancelled),
     /// The triangulation of a face failed, e.g. for coordinates spanning more binades than
     /// spade's range.
     #[error("face {face} cannot be triangulated: {reason}")]
@@ -179,8 +180,9 @@ pub fn box_union_vertices(
     convention: DegreeConvention,
 ) -> Result<Vec<BRepVertex>, OrthoError> {
     let ranked = RankedBoxes::new(boxes)?;
-    let tracker = progress::Tracker::new(None, Stage::Sweep, 0);
-    Ok(sweep::sweep_vertices(&ranked, convention, &tracker)
+    let progress = Progress::default();
+    let counter = progress.counter(Stage::Sweep, ranked.coords[2].len());
+    Ok(sweep::sweep_vertices(&ranked, convention, &counter)
         .into_iter()
         .map(|v| BRepVertex {
             position: ranked.position(v.rank),
@@ -195,53 +197,41 @@ pub fn box_union_vertices(
 /// # Errors
 /// [`OrthoError::NonFinite`] naming the first box with a non-finite coordinate.
 pub fn box_union(boxes: &[[f64; 6]]) -> Result<BRep, OrthoError> {
-    box_union_timed(boxes, None, None).map(|(brep, _)| brep)
+    box_union_timed(boxes, None, &Progress::default()).map(|(brep, _)| brep)
 }
 
-/// Seconds spent in each stage of [`box_union_timed`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StageSeconds {
-    /// Ranking the coordinates.
-    pub rank: f64,
-    /// The octant-code sweep (vertices and degrees).
-    pub sweep: f64,
-    /// Loop linking and hole assignment.
-    pub loops: f64,
-}
-
-/// [`box_union`] (`materials: None`) or [`box_union_with_materials`], with the time of each
-/// stage, reporting progress to `progress` (which may cancel the run by returning `false`).
+/// [`box_union`] (`materials: None`) or [`box_union_with_materials`], with the seconds of
+/// each stage ([`Stage::Rank`], [`Stage::Sweep`], [`Stage::Loops`]), reporting every z-plane
+/// swept and every face plane linked to `progress`, which can cancel the run.
 ///
 /// # Errors
-/// As [`box_union_with_materials`], and [`OrthoError::Cancelled`] if `progress` stopped the
-/// run.
+/// As [`box_union_with_materials`], and [`OrthoError::Cancelled`] once `progress` is
+/// cancelled.
 pub fn box_union_timed(
     boxes: &[[f64; 6]],
     materials: Option<&[u32]>,
-    progress: Option<ProgressFn>,
-) -> Result<(BRep, StageSeconds), OrthoError> {
-    let clock = std::time::Instant::now();
+    progress: &Progress,
+) -> Result<(BRep, Vec<(Stage, f64)>), OrthoError> {
+    let mut clock = StageClock::new(progress);
     let ranked = RankedBoxes::with_materials(boxes, materials)?;
-    let rank = clock.elapsed().as_secs_f64();
-    let tracker = progress::Tracker::new(progress, Stage::Sweep, ranked.coords[2].len());
+    clock.end(Stage::Rank)?;
+    let counter = progress.counter(Stage::Sweep, ranked.coords[2].len());
     let (vertices, corners) = match materials {
         None => (
-            sweep::sweep_vertices(&ranked, DegreeConvention::Conforming, &tracker),
+            sweep::sweep_vertices(&ranked, DegreeConvention::Conforming, &counter),
             None,
         ),
         Some(_) => {
-            let (v, c) = materials::sweep_material_vertices(&ranked, &tracker);
+            let (v, c) = materials::sweep_material_vertices(&ranked, &counter);
             (v, Some(c))
         }
     };
-    if tracker.cancelled() {
-        return Err(OrthoError::Cancelled);
-    }
-    let sweep = clock.elapsed().as_secs_f64() - rank;
+    counter.finish()?;
+    clock.record(Stage::Sweep);
     let faces = brep::extract_faces(&vertices, corners.as_deref(), progress)?;
     let brep = assemble(&ranked, &vertices, faces, materials.is_some());
-    let loops = clock.elapsed().as_secs_f64() - rank - sweep;
-    Ok((brep, StageSeconds { rank, sweep, loops }))
+    clock.record(Stage::Loops);
+    Ok((brep, clock.into_seconds()))
 }
 
 /// Computes the B-rep of the union of `boxes`, box `i` being made of material
@@ -252,7 +242,7 @@ pub fn box_union_timed(
 /// # Errors
 /// [`OrthoError::NonFinite`], or [`OrthoError::MaterialCount`] if the lengths differ.
 pub fn box_union_with_materials(boxes: &[[f64; 6]], materials: &[u32]) -> Result<BRep, OrthoError> {
-    box_union_timed(boxes, Some(materials), None).map(|(brep, _)| brep)
+    box_union_timed(boxes, Some(materials), &Progress::default()).map(|(brep, _)| brep)
 }
 
 /// Computes one B-rep per material, each the union of that material's boxes alone, in

@@ -22,9 +22,10 @@
 
 use rayon::prelude::*;
 
+use crate::progress::Counter;
+
 use super::grid::RankedBoxes;
 use super::octant::{DegreeConvention, OCTANT_TABLE};
-use super::progress::Tracker;
 use super::rect2d::{Rect, plane_scan};
 
 /// A boundary vertex in ranks with its octant code and degrees.
@@ -40,40 +41,40 @@ pub(crate) struct RankVertex {
 
 /// Every boundary vertex of the union of `boxes`, sorted by (z, y, x).
 ///
-/// Each plane ticks `tracker`; once it is cancelled, the remaining planes are skipped (the
-/// caller checks [`Tracker::cancelled`]).
+/// Each plane advances `counter`; once the run is cancelled, the remaining planes are skipped
+/// and the result is incomplete (the caller's [`Counter::finish`] says so).
 pub(crate) fn sweep_vertices(
     boxes: &RankedBoxes,
     convention: DegreeConvention,
-    tracker: &Tracker,
+    counter: &Counter,
 ) -> Vec<RankVertex> {
     let slabs = slab_rects(boxes);
     let planes = boxes.coords[2].len();
-    for_each_plane(&slabs, planes, tracker, |below, above, k| {
+    for_each_plane(&slabs, planes, counter, |below, above, k| {
         plane_vertices(below, above, k, convention)
     })
     .concat()
 }
 
 /// Runs `plane` on every z-plane in parallel with the slabs just below and just above it
-/// (empty beyond the ends), in plane order; each plane ticks `tracker`, and once it is
+/// (empty beyond the ends), in plane order; each plane advances `counter`, and once the run is
 /// cancelled the remaining planes give nothing.
 pub(crate) fn for_each_plane<S: Sync, T: Send>(
     slabs: &[Vec<S>],
     planes: usize,
-    tracker: &Tracker,
+    counter: &Counter,
     plane: impl Fn(&[S], &[S], u32) -> Vec<T> + Sync,
 ) -> Vec<Vec<T>> {
     (0..planes)
         .into_par_iter()
         .map(|k| {
-            if tracker.cancelled() {
+            if counter.is_cancelled() {
                 return Vec::new();
             }
             let below = if k > 0 { &slabs[k - 1][..] } else { &[][..] };
             let above = slabs.get(k).map_or(&[][..], |s| &s[..]);
             let vertices = plane(below, above, k as u32);
-            tracker.tick();
+            counter.advance(1);
             vertices
         })
         .collect()

@@ -1,6 +1,7 @@
 use super::*;
 use crate::discrete::{Grid, Solid};
 use crate::primitives::cuboid;
+use crate::progress::Report;
 
 fn concat(a: &Mesh, b: &Mesh) -> Mesh {
     let mut positions = a.positions().to_vec();
@@ -235,13 +236,16 @@ fn crossings_pack_and_sort_by_column_then_depth() {
 fn progress_is_reported_and_cancellation_stops() {
     let cube = cuboid([0.0; 3], [4.0; 3]);
     let seen = std::sync::Mutex::new(Vec::new());
-    let s = discretize_with_progress(&cube, grid(), 0, DiscretizeOptions::default(), &|f| {
-        seen.lock().unwrap().push(f);
+    let record = |report: Report| {
+        seen.lock().unwrap().push(report);
         true
-    })
-    .unwrap();
+    };
+    let options = DiscretizeOptions::default();
+    let s = discretize_with_progress(&cube, grid(), 0, options, &Progress::new(&record)).unwrap();
     assert_eq!(s.voxel_count(), 64);
-    assert_eq!(seen.lock().unwrap().last(), Some(&1.0));
-    let err = discretize_with_progress(&cube, grid(), 0, DiscretizeOptions::default(), &|_| false);
-    assert_eq!(err, Err(DiscretizeError::Cancelled));
+    let last = *seen.lock().unwrap().last().expect("reported");
+    assert_eq!((last.stage, last.done), (Stage::Discretize, last.total));
+    let stop = |_: Report| false;
+    let err = discretize_with_progress(&cube, grid(), 0, options, &Progress::new(&stop));
+    assert_eq!(err, Err(DiscretizeError::Cancelled(Cancelled)));
 }

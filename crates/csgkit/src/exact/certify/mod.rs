@@ -17,7 +17,7 @@
 //! coordinate stays within `2^-27 · M` of the exact result. Removing a sliver moves the
 //! surface by less than the tolerance it was found with, at most `2^MAX_SNAP_LEVEL` ulps of
 //! `M`. If that is not enough, the stage
-//! fails with [`BooleanError::NotCertified`] rather than return an invalid mesh.
+//! fails with [`CertifyError::NotCertified`] rather than return an invalid mesh.
 //!
 //! # Algorithm
 //! Iterative snap rounding, after Lazard & Valque, "Iterative snap rounding of triangle soups"
@@ -66,8 +66,9 @@ use crate::index::{Aabb, Bvh};
 use crate::kernel::Point3;
 use crate::mesh::{Mesh, MeshParts, apply_welding, weld_positions};
 
+use crate::progress::{Cancelled, Counter, Progress, Stage};
+
 use super::assemble::Rounded;
-use super::boolean::BooleanError;
 use super::intersect::Triangle;
 use super::self_intersect::pair_intersects;
 
@@ -165,18 +166,62 @@ impl Problems {
     }
 }
 
-/// Certifies `rounded` (see the module docs). `re_refine(soup, suspects)` computes the exact
-/// union of a soup under the positive winding rule and rounds it; `suspects` are the
-/// positions of the soup's vertices that moved since it was last free of crossings, so only
-/// faces at those can cross.
+/// Why certification produced nothing.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum CertifyError {
+    /// The coarsest snap grid left problems.
+    NotCertified {
+        /// Crossing face pairs left.
+        crossing_pairs: usize,
+        /// Degenerate faces left.
+        degenerate_faces: usize,
+    },
+    /// The caller cancelled the run.
+    Cancelled(Cancelled),
+}
+
+impl From<Cancelled> for CertifyError {
+    fn from(cancelled: Cancelled) -> Self {
+        CertifyError::Cancelled(cancelled)
+    }
+}
+
+impl CertifyError {
+    fn not_certified(problems: &Problems) -> Self {
+        CertifyError::NotCertified {
+            crossing_pairs: problems.crossing_pairs,
+            degenerate_faces: problems.degenerate_faces,
+        }
+    }
+}
+
+/// Certifies `rounded` (see the module docs), reporting its rounds to `progress`.
+/// `re_refine(soup, suspects)` computes the exact union of a soup under the positive winding
+/// rule and rounds it, or `None` when the engine refuses the soup (or the run was cancelled,
+/// which it sees in the same flag); `suspects` are the positions of the soup's vertices that
+/// moved since it was last free of crossings, so only faces at those can cross.
 ///
 /// # Errors
-/// [`BooleanError::NotCertified`] when the coarsest grid leaves a problem; any error of
-/// `re_refine` other than [`BooleanError::Unsupported`], which is retried on a coarser grid.
+/// [`CertifyError::NotCertified`] when the coarsest grid leaves a problem (a refused
+/// re-refinement is retried on a coarser grid); [`CertifyError::Cancelled`].
 pub(crate) fn certify(
     rounded: Rounded,
-    mut re_refine: impl FnMut(&Mesh, &[Point3]) -> Result<Rounded, BooleanError>,
-) -> Result<(Mesh, Certificate), BooleanError> {
+    progress: &Progress,
+    re_refine: impl FnMut(&Mesh, &[Point3]) -> Option<Rounded>,
+) -> Result<(Mesh, Certificate), CertifyError> {
+    // Units: rounds, of at most MAX_ITERATIONS; almost always one.
+    let counter = progress.counter(Stage::Certify, MAX_ITERATIONS);
+    let certified = certify_rounds(rounded, &counter, re_refine)?;
+    counter.finish()?;
+    Ok(certified)
+}
+
+/// The rounds of [`certify`]: steps 1–6 until no problem is left.
+fn certify_rounds(
+    rounded: Rounded,
+    counter: &Counter,
+    mut re_refine: impl FnMut(&Mesh, &[Point3]) -> Option<Rounded>,
+) -> Result<(Mesh, Certificate), CertifyError> {
     let mut certificate = Certificate {
         rounded_vertices: rounded.rounded,
         ..Certificate::default()
@@ -189,16 +234,19 @@ pub(crate) fn certify(
     let mut level = 0;
     let mut rounds_at_level = 0;
     let work = std::cell::Cell::new(0u64);
-    for _ in 0..MAX_ITERATIONS {
+    for round in 0..MAX_ITERATIONS {
+        if round > 0 {
+            counter.advance(1);
+        }
+        if counter.is_cancelled() {
+            return Err(Cancelled.into());
+        }
         let problems = find_problems(&mesh, &moved);
         if problems.is_empty() {
             return Ok((mesh, certificate));
         }
         if certificate.rounds >= MAX_REFINEMENTS {
-            return Err(BooleanError::NotCertified {
-                crossing_pairs: problems.crossing_pairs,
-                degenerate_faces: problems.degenerate_faces,
-            });
+            return Err(CertifyError::not_certified(&problems));
         }
         if !problems.coincident.is_empty() {
             // Two exact points rounded to one f64 point: they are one vertex of the f64
@@ -237,10 +285,7 @@ pub(crate) fn certify(
                 rounds_at_level = 0;
             }
             if level > MAX_SNAP_LEVEL {
-                return Err(BooleanError::NotCertified {
-                    crossing_pairs: problems.crossing_pairs,
-                    degenerate_faces: problems.degenerate_faces,
-                });
+                return Err(CertifyError::not_certified(&problems));
             }
             rounds_at_level += 1;
             if level > 0 {
@@ -257,33 +302,20 @@ pub(crate) fn certify(
             .chain(&problems.coincident)
             .map(|&v| soup.positions()[v as usize])
             .collect();
-        let refined = re_refine(&soup, &suspects).and_then(|next| {
-            // The re-refinement's own arrangement decides exactly, but its input is a fold:
-            // its result is checked like any other before it replaces the mesh.
-            let balanced = crate::mesh::analyze_topology(&next.mesh).unbalanced_edges == 0;
-            if balanced {
-                Ok(next)
-            } else {
-                Err(BooleanError::Unsupported(
-                    "re-refinement left a hole".into(),
-                ))
-            }
-        });
+        // The re-refinement's own arrangement decides exactly, but its input is a fold: its
+        // result is checked like any other before it replaces the mesh.
+        let refined = re_refine(&soup, &suspects)
+            .filter(|next| crate::mesh::analyze_topology(&next.mesh).unbalanced_edges == 0);
         let next = match refined {
-            Ok(next) => next,
-            Err(BooleanError::Cancelled) => return Err(BooleanError::Cancelled),
-            // Slivers too thin to sample in f64, or an operand the engine refuses: a coarser
-            // grid merges their vertices.
-            Err(_) if !problems.to_snap.is_empty() => {
+            Some(next) => next,
+            None if counter.is_cancelled() => return Err(Cancelled.into()),
+            // Slivers too thin to sample in f64, an operand the engine refuses, or a result
+            // with a hole: a coarser grid merges their vertices.
+            None if !problems.to_snap.is_empty() => {
                 rounds_at_level = ROUNDS_PER_LEVEL;
                 continue;
             }
-            Err(_) => {
-                return Err(BooleanError::NotCertified {
-                    crossing_pairs: problems.crossing_pairs,
-                    degenerate_faces: problems.degenerate_faces,
-                });
-            }
+            None => return Err(CertifyError::not_certified(&problems)),
         };
         mesh = with_source_provenance(next.mesh, &soup);
         moved = next.moved;
@@ -302,10 +334,7 @@ pub(crate) fn certify(
     if problems.is_empty() {
         return Ok((mesh, certificate));
     }
-    Err(BooleanError::NotCertified {
-        crossing_pairs: problems.crossing_pairs,
-        degenerate_faces: problems.degenerate_faces,
-    })
+    Err(CertifyError::not_certified(&problems))
 }
 
 impl Certificate {

@@ -1,0 +1,113 @@
+//! The cascade that decides every predicate: interval filter, then floating-point
+//! expansions, then big integers, stopping at the first stage that decides (see the
+//! [module docs](super) for the numeric model).
+//!
+//! A predicate is a [`Formula`]: one generic polynomial in the homogeneous coordinates of some
+//! points and in some explicit coordinates, written once over [`Arith`] and evaluated in
+//! [`Interval`]s (from the points' cached coordinates, no allocation), then in [`Expansion`]s,
+//! then in big integers ([`Big`]).
+//!
+//! The cascade sees points only through [`Homogeneous`], so it sits below the point types:
+//! `implicit` builds a point by deciding the sign of its `W` here, and `formulas` and
+//! `predicates` above it write their polynomials on those points.
+
+use super::arith::{Arith, Big, decompose, exponent, scaled_expansion};
+use super::expansion::Expansion;
+use super::interval::Interval;
+use super::{Sign, expansion_top_exponent};
+
+/// A point given by homogeneous coordinates `(X, Y, Z, W)`, polynomials in its defining f64
+/// coordinates.
+pub(crate) trait Homogeneous {
+    /// The homogeneous coordinates as intervals (cached for implicit points).
+    fn filter_hom(&self) -> [Interval; 4];
+    /// The homogeneous coordinates in number type `T`; `one` is the constant 1 of `T` (not
+    /// scaled by `conv`, so that the polynomials stay homogeneous).
+    fn hom<T: Arith>(&self, conv: &dyn Fn(f64) -> T, one: &T) -> [T; 4];
+    /// Every defining f64 coordinate.
+    fn coords(&self) -> &[f64];
+}
+
+/// A polynomial sign question about some points.
+pub(crate) trait Formula {
+    /// The points the polynomial is written on.
+    type Point: Homogeneous;
+    /// The polynomial in number type `T`: `hom` gives a point's homogeneous coordinates,
+    /// `conv` converts an explicit input coordinate.
+    fn eval<T: Arith>(&self, hom: &dyn Fn(&Self::Point) -> [T; 4], conv: &dyn Fn(f64) -> T) -> T;
+    /// The points whose homogeneous coordinates `eval` asks for.
+    fn points(&self) -> impl Iterator<Item = &Self::Point>;
+    /// The explicit coordinates `eval` converts with `conv`.
+    fn explicit_coords(&self) -> impl Iterator<Item = f64>;
+    /// The total degree of the polynomial in the input coordinates.
+    fn degree(&self) -> u32;
+}
+
+/// The exact sign of a formula: filter first, then the exact stages.
+#[inline]
+pub(crate) fn decide(f: &impl Formula) -> Sign {
+    let v = f.eval::<Interval>(&|p| p.filter_hom(), &Interval::exact);
+    match v.sign() {
+        Some(s) => s,
+        None => decide_exact(f),
+    }
+}
+
+/// Stages 2 and 3 of the cascade.
+fn decide_exact(f: &impl Formula) -> Sign {
+    let (top, e_low) = scan(f);
+    match expansion_stage(f, top) {
+        Some(s) => s,
+        None => big_stage(f, e_low),
+    }
+}
+
+/// The exponent of the largest input magnitude and the exponent of the lowest set bit over
+/// all inputs (both 0 when every input is zero).
+fn scan(f: &impl Formula) -> (i32, i32) {
+    let mut max = 0.0f64;
+    let mut e_low = i32::MAX;
+    let mut visit = |x: f64| {
+        debug_assert!(x.is_finite(), "predicate inputs are finite");
+        if x != 0.0 {
+            max = max.max(x.abs());
+            e_low = e_low.min(decompose(x).1);
+        }
+    };
+    f.points().flat_map(|p| p.coords()).for_each(|&x| visit(x));
+    f.explicit_coords().for_each(&mut visit);
+    if max == 0.0 {
+        (0, 0)
+    } else {
+        (exponent(max), e_low)
+    }
+}
+
+/// Stage 2: expansions after scaling the largest input to `2^T` (see
+/// [`expansion_bit_span`](super::expansion_bit_span)); `None` if a product may have
+/// underflowed.
+fn expansion_stage(f: &impl Formula, top: i32) -> Option<Sign> {
+    let s = expansion_top_exponent(f.degree().max(1)) - top;
+    let conv = |x: f64| scaled_expansion(x, s);
+    let one = Expansion::exact(1.0);
+    f.eval::<Expansion>(&|p| p.hom(&conv, &one), &conv).sign()
+}
+
+/// Stage 3: big integers, exact for every finite input.
+fn big_stage(f: &impl Formula, e_low: i32) -> Sign {
+    let conv = |x: f64| Big::scaled(x, e_low);
+    let one = Big::one();
+    f.eval::<Big>(&|p| p.hom(&conv, &one), &conv)
+        .sign()
+        .expect("big integers always decide")
+}
+
+/// What each stage of the cascade answers on its own: filter, expansions, big integers.
+#[cfg(test)]
+pub(crate) fn stages(f: &impl Formula) -> [Option<Sign>; 3] {
+    let filter = f
+        .eval::<Interval>(&|p| p.filter_hom(), &Interval::exact)
+        .sign();
+    let (top, e_low) = scan(f);
+    [filter, expansion_stage(f, top), Some(big_stage(f, e_low))]
+}
