@@ -13,7 +13,8 @@ use crate::Operation;
 use crate::exact::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, boolean_expression,
 };
-use crate::mesh::{Mesh, MeshParts};
+use crate::mesh::{FaceId, Mesh, MeshParts, bounding_box};
+use crate::ortho::{MeshOptions, OrthoError, box_union};
 use crate::progress::Progress;
 
 use super::extrude::{ExtrudeError, Extrusion, Profile};
@@ -97,6 +98,14 @@ pub enum CsgError {
     BadTransform {
         /// The leaf it applies to.
         leaf: String,
+    },
+    /// The orthogonal engine refused a union of boxes.
+    #[error("a union of {boxes} boxes: {error}")]
+    Boxes {
+        /// How many boxes.
+        boxes: usize,
+        /// The engine's error.
+        error: OrthoError,
     },
     /// A 2D shape could not be swept.
     #[error("{leaf}: {error}")]
@@ -251,6 +260,44 @@ impl Flattened<'_, '_> {
                     })?;
                 self.leaf(&solid, name, transform, material)
             }
+            NodeKind::Apply(Operation::Union, _) => {
+                let mut boxes = Vec::new();
+                if !(boxes_of(node, outer, &mut boxes) && boxes.len() >= 2) {
+                    return self.apply(node, transform, material);
+                }
+                // A union of axis-aligned boxes: the orthogonal engine builds it exactly from
+                // comparisons, and the exact engine meets one operand instead of many.
+                self.operations += count_operations(node);
+                let brep = box_union(&boxes).map_err(|error| CsgError::Boxes {
+                    boxes: boxes.len(),
+                    error,
+                })?;
+                let mesh = brep
+                    .to_mesh(MeshOptions::default())
+                    .map_err(|error| CsgError::Boxes {
+                        boxes: boxes.len(),
+                        error,
+                    })?
+                    .mesh;
+                self.leaf(
+                    &mesh,
+                    &format!("a union of {} boxes", boxes.len()),
+                    IDENTITY,
+                    material,
+                )
+            }
+            NodeKind::Apply(..) => self.apply(node, transform, material),
+        }
+    }
+
+    /// An operation node: its children flattened under `transform`.
+    fn apply(
+        &mut self,
+        node: &Node,
+        transform: Affine,
+        material: Option<&str>,
+    ) -> Result<Expression, CsgError> {
+        match &node.kind {
             NodeKind::Apply(op, children) => {
                 self.operations += 1;
                 let children = (children.iter())
@@ -258,6 +305,7 @@ impl Flattened<'_, '_> {
                     .collect::<Result<Vec<_>, _>>()?;
                 Ok(Expression::Apply(*op, children))
             }
+            _ => unreachable!("apply is called on operation nodes"),
         }
     }
 
@@ -276,6 +324,74 @@ impl Flattened<'_, '_> {
         self.names.push(name.to_owned());
         Ok(Expression::Operand(self.leaves.len() - 1))
     }
+}
+
+/// Collects the boxes of a subtree made only of unions of axis-aligned boxes under
+/// axis-aligned transforms, with no material below its root; false for any other subtree.
+fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
+    let transform = match node.transform {
+        Some(own) => compose(outer, own),
+        None => outer,
+    };
+    match &node.kind {
+        NodeKind::Apply(Operation::Union, children) => (children.iter())
+            .all(|child| child.material.is_none() && boxes_of(child, transform, boxes)),
+        NodeKind::Mesh { mesh, .. } if is_axis_aligned(&transform) && is_box(mesh) => {
+            match placed(mesh, transform, None)
+                .as_ref()
+                .and_then(bounding_box)
+            {
+                Some(b) => {
+                    boxes.push([b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]]);
+                    true
+                }
+                None => false,
+            }
+        }
+        _ => false,
+    }
+}
+
+/// The operation nodes of a subtree.
+fn count_operations(node: &Node) -> usize {
+    match &node.kind {
+        NodeKind::Apply(_, children) => 1 + children.iter().map(count_operations).sum::<usize>(),
+        NodeKind::Extrude { .. } | NodeKind::Mesh { .. } => 0,
+    }
+}
+
+/// Whether `transform` maps axis-aligned boxes to axis-aligned boxes: one non-zero entry in
+/// every row and column of its linear part (a scaled signed permutation).
+fn is_axis_aligned(transform: &Affine) -> bool {
+    let nonzero = |i: usize, j: usize| transform[i][j] != 0.0;
+    (0..3).all(|i| (0..3).filter(|&j| nonzero(i, j)).count() == 1)
+        && (0..3).all(|j| (0..3).filter(|&i| nonzero(i, j)).count() == 1)
+}
+
+/// Whether `mesh` is the closed, outward surface of its bounding box with only its eight
+/// corners as vertices (a cuboid).
+fn is_box(mesh: &Mesh) -> bool {
+    let Some(b) = bounding_box(mesh) else {
+        return false;
+    };
+    let corner = |p: &[f64; 3]| (0..3).all(|k| p[k] == b.min[k] || p[k] == b.max[k]);
+    let on_side = |face: &[u32]| {
+        (0..3).any(|k| {
+            let first = mesh.positions()[face[0] as usize][k];
+            (first == b.min[k] || first == b.max[k])
+                && face
+                    .iter()
+                    .all(|&v| mesh.positions()[v as usize][k] == first)
+        })
+    };
+    mesh.vertex_count() == 8
+        && (0..3).all(|k| b.min[k] < b.max[k])
+        && mesh.positions().iter().all(corner)
+        && (0..mesh.face_count()).all(|f| on_side(mesh.face(FaceId::new(f))))
+        && {
+            let report = mesh.report();
+            report.is_valid_solid() && report.measures.volume > 0.0
+        }
 }
 
 /// `outer ∘ inner`: the map that applies `inner`, then `outer`.
@@ -369,7 +485,55 @@ mod tests {
         assert!(report.is_valid_solid());
         assert_eq!(report.measures.volume, 2.0);
         assert_eq!(report.measures.bbox.expect("a box").min[0], -3.0);
-        assert_eq!((out.leaves, out.operations), (2, 1));
+        // Two boxes: one leaf from the orthogonal engine.
+        assert_eq!((out.leaves, out.operations), (1, 1));
+    }
+
+    #[test]
+    fn unions_of_axis_aligned_boxes_go_to_the_orthogonal_engine() {
+        let moved = |transform: Affine| Node {
+            transform: Some(transform),
+            ..Node::mesh(cuboid([0.0; 3], [1.0; 3]), "cube")
+        };
+        let shift = |x: f64, y: f64| [[2.0, 0.0, 0.0, x], [0.0, 1.0, 0.0, y], [0.0, 0.0, 1.0, 0.0]];
+        // A quarter turn about z swaps x and y exactly: still axis-aligned.
+        let turned = [
+            [0.0, -1.0, 0.0, 0.5],
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+        ];
+        let boxes = Node::apply(
+            Operation::Union,
+            vec![
+                moved(shift(0.0, 0.0)),
+                moved(shift(1.0, 0.5)),
+                moved(turned),
+            ],
+        );
+        let options = BooleanOptions::default();
+        let flat = flatten(&boxes, &options, &Progress::default()).unwrap();
+        assert_eq!(flat.leaves.len(), 1);
+        assert_eq!(flat.operations, 1);
+        let routed = evaluate(&boxes, &options, &Progress::default())
+            .unwrap()
+            .result
+            .mesh;
+        // 2 + 2 − overlap 1 · 0.5 + the turned cube's part outside the others (0.5 · 1 · 1).
+        assert_eq!(routed.report().measures.volume, 4.0 - 0.5 + 0.5);
+        assert!(routed.report().is_valid_solid());
+        // A box turned by 45° keeps the union in the exact engine, with the same boxes' volume.
+        let c = std::f64::consts::FRAC_1_SQRT_2;
+        let oblique = [[c, -c, 0.0, 10.0], [c, c, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
+        let mixed = Node::apply(
+            Operation::Union,
+            vec![
+                moved(shift(0.0, 0.0)),
+                moved(shift(1.0, 0.5)),
+                moved(oblique),
+            ],
+        );
+        let flat = flatten(&mixed, &options, &Progress::default()).unwrap();
+        assert_eq!(flat.leaves.len(), 3);
     }
 
     #[test]
