@@ -340,22 +340,28 @@ mod tests {
         );
     }
 
-    #[test]
-    fn chunks_keep_item_order_and_count_every_item() {
+    /// Every report `work` makes through a recording context.
+    fn recorded(work: impl FnOnce(&Progress)) -> Vec<Report> {
         let seen = std::sync::Mutex::new(Vec::new());
         let record = |r: Report| {
             seen.lock().unwrap().push(r);
             true
         };
-        let progress = Progress::new(&record);
+        work(&Progress::new(&record));
+        seen.into_inner().unwrap()
+    }
+
+    #[test]
+    fn chunks_keep_item_order_and_count_every_item() {
         let items: Vec<u32> = (0..10_000).collect();
-        let counter = progress.counter(Stage::Intersect, items.len());
-        let odd: Vec<u32> = counter.par_chunks(&items, |chunk, out| {
-            out.extend(chunk.iter().filter(|&&x| x % 2 == 1));
+        let seen = recorded(|progress| {
+            let counter = progress.counter(Stage::Intersect, items.len());
+            let odd: Vec<u32> = counter.par_chunks(&items, |chunk, out| {
+                out.extend(chunk.iter().filter(|&&x| x % 2 == 1));
+            });
+            counter.finish().unwrap();
+            assert_eq!(odd, (0..10_000).filter(|x| x % 2 == 1).collect::<Vec<_>>());
         });
-        counter.finish().unwrap();
-        assert_eq!(odd, (0..10_000).filter(|x| x % 2 == 1).collect::<Vec<_>>());
-        let seen = seen.into_inner().unwrap();
         assert!(
             seen.iter()
                 .all(|r| r.stage == Stage::Intersect && r.total == 10_000)
@@ -367,17 +373,12 @@ mod tests {
 
     #[test]
     fn a_stage_with_nothing_to_do_still_reports() {
-        let seen = std::sync::Mutex::new(Vec::new());
-        let record = |r: Report| {
-            seen.lock().unwrap().push(r);
-            true
-        };
-        let progress = Progress::new(&record);
-        progress.counter(Stage::Split, 0).finish().unwrap();
-        let mut clock = StageClock::new(&progress);
-        clock.end(Stage::Ingest).unwrap();
-        assert_eq!(clock.into_seconds().len(), 1);
-        let seen = seen.into_inner().unwrap();
+        let seen = recorded(|progress| {
+            progress.counter(Stage::Split, 0).finish().unwrap();
+            let mut clock = StageClock::new(progress);
+            clock.end(Stage::Ingest).unwrap();
+            assert_eq!(clock.into_seconds().len(), 1);
+        });
         assert_eq!(
             seen,
             [

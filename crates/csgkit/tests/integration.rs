@@ -7,6 +7,9 @@ mod util;
 mod csg_trees;
 // The discrete engine against brute-force voxel oracles.
 mod discrete_cases;
+// The engine facade: every engine on one table of cases, stage reports, cancellation inside
+// the long stages.
+mod engines;
 // The exact engine: the degenerate suite of design/exact.md with exact volumes.
 mod exact_cases;
 // Reconstruction: faces merged back by source in polygons, quads and triangles modes, fewest
