@@ -1,4 +1,4 @@
-//! `csgkit union | intersection | difference A B [C ...] -o OUT`: the exact mesh booleans.
+//! `csgkit union | intersection | difference | xor A B [C ...] -o OUT`: the exact mesh booleans.
 //!
 //! Reads every operand (any format [`csgkit::read_mesh`] reads), runs the exact engine through
 //! the facade ([`csgkit::ExactEngine`]) once on all of them (`difference` is the first minus
@@ -32,7 +32,7 @@ use crate::progress::{seconds_of, stage_name, with_bar};
 /// Below this many input faces the boolean ends before a progress bar would help.
 const PROGRESS_MIN_FACES: usize = 20_000;
 
-/// Arguments of `csgkit union`, `intersection` and `difference`.
+/// Arguments of `csgkit union`, `intersection`, `difference` and `xor`.
 #[derive(Args, Debug, Clone)]
 pub struct ExactArgs {
     /// The operands: two or more closed meshes (OBJ, STL, PLY or OFF); their faces may cross
@@ -138,7 +138,8 @@ impl Winding {
     }
 }
 
-/// Runs `csgkit union`, `intersection` or `difference` (and `repair`, a union of one operand);
+/// Runs `csgkit union`, `intersection`, `difference` or `xor` (and `repair`, a union of one
+/// operand);
 /// returns what the library reported.
 pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
     // The format is settled before any work, so a mistyped extension costs nothing.
