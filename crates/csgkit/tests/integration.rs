@@ -26,6 +26,8 @@ mod exact_real;
 mod exact_winding;
 // Every shared data mesh loads with the manifest's counts; formats round-trip.
 mod io_formats;
+// ARCHITECTURE.md's layering: no two modules of the library import each other.
+mod layering;
 // Truncated, corrupted and random bytes make no reader panic.
 mod io_fuzz;
 // Non-convex, collinear and self-overlapping polygons: the triangulator, the self-intersection
