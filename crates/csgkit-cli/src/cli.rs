@@ -41,6 +41,10 @@ enum Command {
     #[command(after_help = "Example (the block minus both holes):\n  \
         csgkit difference block.obj hole1.obj hole2.obj -o drilled.obj")]
     Difference(exact::ExactArgs),
+    /// The exact symmetric difference (xor): the points in an odd number of the solids.
+    #[command(after_help = "Example (the parts of a and b outside the other):\n  \
+        csgkit xor a.obj b.obj -o either.obj")]
+    Xor(exact::ExactArgs),
     /// The boundary of the region inside a mesh whose faces may cross or whose shells may
     /// nest: a valid solid, certified free of self-intersections.
     #[command(after_help = "Examples:\n  \
@@ -100,6 +104,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Difference(args) => {
             exact::run(Operation::Difference, &args).map(|_| ExitCode::SUCCESS)
         }
+        Command::Xor(args) => exact::run(Operation::Xor, &args).map(|_| ExitCode::SUCCESS),
         Command::Repair(args) => commands::repair::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Boxes(args) => boxes::run(&args).map(|()| ExitCode::SUCCESS),
         Command::Demo(args) => demo::run(&args).map(|()| ExitCode::SUCCESS),

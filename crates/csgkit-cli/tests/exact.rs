@@ -1,4 +1,4 @@
-//! `csgkit union | intersection | difference` and the demo's exact showcase end to end: exit
+//! `csgkit union | intersection | difference | xor` and the demo's exact showcase end to end: exit
 //! codes, outputs checked by their topology and measures, `--stats`, and errors that name the
 //! file at fault.
 //!
@@ -100,6 +100,23 @@ fn a_cube_minus_a_flush_corner_cube_keeps_its_area() {
     let run = csgkit_ok(&["difference", arg(&a), arg(&b), "-o", arg(&out)]);
     assert!(run.stdout.is_empty(), "nothing on stdout without --stats");
     assert_solid(&out, 7.0, 24.0);
+}
+
+/// A ⊕ B of overlapping cubes: both cubes but their common box, bounded by both surfaces
+/// (the two pieces meet along edges, non-manifold but closed).
+#[test]
+fn xor_of_overlapping_cubes_leaves_out_their_common_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = cube(&dir, "a.obj", [0.0; 3], [2.0; 3]);
+    let b = cube(&dir, "b.obj", [1.0; 3], [3.0; 3]);
+    let out = dir.path().join("ab.obj");
+    let run = csgkit_ok(&["xor", arg(&a), arg(&b), "-o", arg(&out), "--stats"]);
+    let stats: Value = serde_json::from_slice(&run.stdout).expect("stdout is one JSON object");
+    assert_eq!(stats["command"], "xor");
+    let report = check(&out);
+    assert_eq!(report["valid_solid"], true, "{report}");
+    assert_close(&report["volume"], 14.0);
+    assert_close(&report["area"], 48.0);
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! csgkit computes boolean operations ([`Operation`]: union, intersection, difference,
-//! symmetric difference) on 3D solids,
-//! exactly: no epsilon takes part in any topological decision.
+//! symmetric difference) on 3D solids, exactly: no epsilon takes part in any topological
+//! decision.
 //!
 //! # Overview
 //! Files are read by [`io`] into a [`Mesh`], an engine computes the result, and [`io`]
@@ -9,6 +9,12 @@
 //! - the exact mesh-boolean engine for arbitrary closed polygon meshes;
 //! - the orthogonal engine for unions of axis-aligned boxes;
 //! - the discrete engine for multi-scale depth-list solids.
+//!
+//! [`Engine`] is one interface over the three ([`ExactEngine`], [`OrthoEngine`],
+//! [`DiscreteEngine`]): an [`Operation`] on meshes, reported to and cancellable through a
+//! [`Progress`], giving an [`Output`] or the crate's one [`Error`]. Each engine's own module
+//! keeps its full interface (the exact engine's CSG expressions, the orthogonal engine's
+//! B-reps and materials, the discrete engine's solids).
 //!
 //! [`primitives`] builds closed meshes of simple solids (cuboid, icosphere, torus,
 //! cylinder) in code.
@@ -24,6 +30,8 @@
 
 pub mod csg;
 pub mod discrete;
+mod engine;
+mod error;
 pub mod exact;
 mod index;
 pub mod io;
@@ -34,6 +42,10 @@ pub mod ortho;
 pub mod primitives;
 mod progress;
 
+pub use engine::{
+    DiscreteEngine, DiscreteSurface, Engine, ExactEngine, OrthoEngine, OrthoStats, Output, Stats,
+};
+pub use error::Error;
 pub use exact::{
     Contact, Feature, Intersection, PointKey, SelfIntersections, Split, SplitError, Triangle,
     TriangleEdge, intersect_triangles, self_intersections, split_triangle,

@@ -2,8 +2,8 @@
 //! [`Progress`], which the crate root re-exports with [`Report`], [`Stage`] and
 //! [`Cancelled`]; [`Counter`] and [`StageClock`] are how the stages keep it.
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -96,9 +96,8 @@ pub type Callback<'a> = &'a (dyn Fn(Report) -> bool + Sync);
 /// engine's error).
 ///
 /// # The callback's contract
-/// - It is called from whichever worker thread finished a chunk, possibly from several at
-///   once (hence `Sync`), so it should be cheap; reports of one stage from different threads
-///   may arrive out of order, and the largest `done` is the progress.
+/// - It is called from whichever worker thread finished a chunk (hence `Sync`), one report at
+///   a time, so it should be cheap; the reports of a stage arrive in order of `done`.
 /// - Every stage that runs reports at least once, and last with `done == total`; a stage
 ///   without a natural unit (ingest, say) reports 1 of 1 when it ends. Stages come in
 ///   pipeline order, and a stage may be left out (the exact engine's `Simplify` runs only
@@ -204,7 +203,7 @@ impl<'a> Progress<'a> {
             progress: self,
             stage,
             total,
-            done: AtomicUsize::new(0),
+            done: Mutex::new(0),
         }
     }
 }
@@ -214,17 +213,19 @@ pub(crate) struct Counter<'p> {
     progress: &'p Progress<'p>,
     stage: Stage,
     total: usize,
-    done: AtomicUsize,
+    /// Units done; held while reporting, so a stage's reports arrive in order.
+    done: Mutex<usize>,
 }
 
 impl Counter<'_> {
-    /// Records `n` more units done and reports the count (from any thread).
+    /// Records `n` more units done and reports the count (from any thread; one report at a
+    /// time, in order, which costs nothing next to a chunk of work).
     pub(crate) fn advance(&self, n: usize) {
-        let done = self.done.fetch_add(n, Ordering::Relaxed) + n;
+        // The lock is held through the report, so no later count is reported first.
+        let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+        *done += n;
         // A cancellation shows in the flag, which the loops poll.
-        let _ = self
-            .progress
-            .report(self.stage, done.min(self.total), self.total);
+        let _ = (self.progress).report(self.stage, (*done).min(self.total), self.total);
     }
 
     /// True once the operation is cancelled: the loops skip their remaining work.
@@ -239,7 +240,8 @@ impl Counter<'_> {
     /// [`Cancelled`] once the operation is cancelled: the stage's result is incomplete.
     pub(crate) fn finish(self) -> Result<(), Cancelled> {
         self.progress.check()?;
-        if self.done.load(Ordering::Relaxed) < self.total || self.total == 0 {
+        let done = *self.done.lock().unwrap_or_else(|e| e.into_inner());
+        if done < self.total || self.total == 0 {
             self.progress.report(self.stage, self.total, self.total)?;
         }
         Ok(())
@@ -340,44 +342,46 @@ mod tests {
         );
     }
 
-    #[test]
-    fn chunks_keep_item_order_and_count_every_item() {
+    /// Every report `work` makes through a recording context.
+    fn recorded(work: impl FnOnce(&Progress)) -> Vec<Report> {
         let seen = std::sync::Mutex::new(Vec::new());
         let record = |r: Report| {
             seen.lock().unwrap().push(r);
             true
         };
-        let progress = Progress::new(&record);
+        work(&Progress::new(&record));
+        seen.into_inner().unwrap()
+    }
+
+    #[test]
+    fn chunks_keep_item_order_and_count_every_item() {
         let items: Vec<u32> = (0..10_000).collect();
-        let counter = progress.counter(Stage::Intersect, items.len());
-        let odd: Vec<u32> = counter.par_chunks(&items, |chunk, out| {
-            out.extend(chunk.iter().filter(|&&x| x % 2 == 1));
+        let seen = recorded(|progress| {
+            let counter = progress.counter(Stage::Intersect, items.len());
+            let odd: Vec<u32> = counter.par_chunks(&items, |chunk, out| {
+                out.extend(chunk.iter().filter(|&&x| x % 2 == 1));
+            });
+            counter.finish().unwrap();
+            assert_eq!(odd, (0..10_000).filter(|x| x % 2 == 1).collect::<Vec<_>>());
         });
-        counter.finish().unwrap();
-        assert_eq!(odd, (0..10_000).filter(|x| x % 2 == 1).collect::<Vec<_>>());
-        let seen = seen.into_inner().unwrap();
         assert!(
             seen.iter()
                 .all(|r| r.stage == Stage::Intersect && r.total == 10_000)
         );
-        let last = seen.iter().map(|r| r.done).max();
-        assert_eq!(last, Some(10_000), "the count reaches the total once");
+        let done: Vec<usize> = seen.iter().map(|r| r.done).collect();
+        assert!(done.is_sorted(), "reports arrive in order");
+        assert_eq!(done.last(), Some(&10_000), "the count reaches the total");
         assert_eq!(seen.iter().filter(|r| r.done == 10_000).count(), 1);
     }
 
     #[test]
     fn a_stage_with_nothing_to_do_still_reports() {
-        let seen = std::sync::Mutex::new(Vec::new());
-        let record = |r: Report| {
-            seen.lock().unwrap().push(r);
-            true
-        };
-        let progress = Progress::new(&record);
-        progress.counter(Stage::Split, 0).finish().unwrap();
-        let mut clock = StageClock::new(&progress);
-        clock.end(Stage::Ingest).unwrap();
-        assert_eq!(clock.into_seconds().len(), 1);
-        let seen = seen.into_inner().unwrap();
+        let seen = recorded(|progress| {
+            progress.counter(Stage::Split, 0).finish().unwrap();
+            let mut clock = StageClock::new(progress);
+            clock.end(Stage::Ingest).unwrap();
+            assert_eq!(clock.into_seconds().len(), 1);
+        });
         assert_eq!(
             seen,
             [

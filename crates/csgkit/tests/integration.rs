@@ -7,6 +7,9 @@ mod util;
 mod csg_trees;
 // The discrete engine against brute-force voxel oracles.
 mod discrete_cases;
+// The engine facade: every engine on one table of cases, stage reports, cancellation inside
+// the long stages.
+mod engines;
 // The exact engine: the degenerate suite of design/exact.md with exact volumes.
 mod exact_cases;
 // Reconstruction: faces merged back by source in polygons, quads and triangles modes, fewest
@@ -23,6 +26,8 @@ mod exact_real;
 mod exact_winding;
 // Every shared data mesh loads with the manifest's counts; formats round-trip.
 mod io_formats;
+// ARCHITECTURE.md's layering: no two modules of the library import each other.
+mod layering;
 // Truncated, corrupted and random bytes make no reader panic.
 mod io_fuzz;
 // Non-convex, collinear and self-overlapping polygons: the triangulator, the self-intersection

@@ -9,8 +9,10 @@
 //!   fine torus, built in code.
 //!
 //! Output: `.txt` writes the disjoint boxes (`x0 y0 z0 x1 y1 z1` per line, the input format of
-//! `csgkit boxes`); any mesh format writes a closed mesh without T-junctions: by default the
-//! orthogonal engine's maximal faces, or with `--mesh surfels` the paper's unit surfels.
+//! `csgkit boxes`) of [`csgkit::discrete::combine`]'s solid; any mesh format writes the mesh
+//! of the engine facade's [`csgkit::DiscreteEngine`], closed and without T-junctions: by
+//! default the orthogonal engine's maximal faces, or with `--mesh surfels` the paper's unit
+//! surfels.
 //! Operands with materials keep them: each face of the result takes the material of the
 //! operand behind it ([`csgkit::discrete::label`]); a mesh whose faces of each material are
 //! closed (a voxel model through `csgkit boxes --per-material`) keeps all of them. `--stats` prints one
@@ -24,11 +26,10 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use csgkit::discrete::{
-    CombineError, Combined, DiscreteStats, DiscretizeOptions, FillRule, Grid, MaterialSolid,
-    Rounding, Solid, combine, labelled_mesh,
+    CombineError, DiscreteStats, DiscretizeOptions, FillRule, Grid, Rounding, Solid, combine,
 };
 use csgkit::primitives::{cuboid, torus};
-use csgkit::{Mesh, Operation, Stage};
+use csgkit::{DiscreteEngine, DiscreteSurface, Engine, Error, Mesh, Operation, Stage, Stats};
 use serde_json::json;
 
 use crate::progress::{seconds_of, with_bar};
@@ -98,6 +99,16 @@ pub enum MeshMode {
     Ortho,
     /// The paper's top, bottom and lateral surfels as unit quads.
     Surfels,
+}
+
+impl MeshMode {
+    /// The library's name for the mode.
+    fn surface(self) -> DiscreteSurface {
+        match self {
+            MeshMode::Ortho => DiscreteSurface::Ortho,
+            MeshMode::Surfels => DiscreteSurface::Surfels,
+        }
+    }
 }
 
 #[derive(clap::Args, Debug)]
@@ -210,20 +221,32 @@ fn run_op(
     let operands: Vec<&Mesh> = meshes.iter().collect();
     let min_size = if common.no_progress { usize::MAX } else { 0 };
     let faces = meshes.iter().map(Mesh::face_count).sum();
-    let combined = with_bar(faces, min_size, |progress| {
-        combine(op, &operands, grid, &levels, options, progress)
-    })
-    .map_err(|err| match err {
-        CombineError::Operand { operand, error } => anyhow::Error::new(error)
-            .context(format!("cannot discretise {}", parsed[operand].0.display())),
-        err => err.into(),
-    })?;
-    let Combined {
-        solid: result,
-        parts,
-        stats,
-    } = combined;
-    let report = write_result(&result, parts.as_deref(), &common.output, common.mesh)?;
+    let named = |err: Error| name_operand(err, &parsed);
+    // Boxes are the solid's own; a mesh is the engine facade's output.
+    let (stats, report) = if is_box_file(&common.output) {
+        let combined = with_bar(faces, min_size, |progress| {
+            combine(op, &operands, grid, &levels, options, progress)
+        })
+        .map_err(|err| named(err.into()))?;
+        let report = write_boxes(&combined.solid, &common.output)?;
+        (combined.stats, report)
+    } else {
+        let engine = DiscreteEngine {
+            cells,
+            options,
+            surface: common.mesh.surface(),
+        };
+        let output = with_bar(faces, min_size, |progress| {
+            engine.apply(op, &operands, progress)
+        })
+        .map_err(named)?;
+        let Stats::Discrete(stats) = output.stats else {
+            unreachable!("the discrete engine gives the discrete engine's statistics")
+        };
+        let convert_seconds = seconds_of(&stats.stage_seconds, Stage::Convert);
+        let report = write_mesh(&output.mesh, &common.output, convert_seconds)?;
+        (stats, report)
+    };
     if common.stats {
         let inputs: Vec<_> = (parsed.iter().zip(&meshes).zip(&stats.operand_voxels))
             .map(|(((path, cell), mesh), voxels)| {
@@ -238,6 +261,18 @@ fn run_op(
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The library's error, naming the file of an operand that could not be discretised, and
+/// the engine that failed to build the mesh.
+fn name_operand(err: Error, parsed: &[(PathBuf, f64)]) -> anyhow::Error {
+    match err {
+        Error::Combine(CombineError::Operand { operand, error }) => anyhow::Error::new(error)
+            .context(format!("cannot discretise {}", parsed[operand].0.display())),
+        err @ Error::Ortho(_) => anyhow::Error::new(err).context("orthogonal engine failed"),
+        err @ Error::InvalidMesh(_) => anyhow::Error::new(err).context("surfel mesh too large"),
+        err => err.into(),
+    }
 }
 
 /// The `--stats` object.
@@ -276,46 +311,37 @@ struct Written {
     write_seconds: f64,
 }
 
-/// Writes boxes (`.txt`) or a mesh built as `mode` says to `path`; the orthogonal engine's
-/// mesh takes its face materials from `parts` where given.
-fn write_result(
-    solid: &Solid,
-    parts: Option<&[MaterialSolid]>,
-    path: &Path,
-    mode: MeshMode,
-) -> anyhow::Result<Written> {
+/// Whether `path` names a box text file (`.txt`) rather than a mesh.
+fn is_box_file(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("txt"))
+}
+
+/// Writes the disjoint boxes of `solid` to `path`, one `x0 y0 z0 x1 y1 z1` line each.
+fn write_boxes(solid: &Solid, path: &Path) -> anyhow::Result<Written> {
     let t = Instant::now();
-    let is_boxes = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("txt"));
-    if is_boxes {
-        let boxes = solid.to_boxes();
-        let mut text = String::with_capacity(boxes.len() * 64);
-        for b in &boxes {
-            text.push_str(&format!(
-                "{} {} {} {} {} {}\n",
-                b[0], b[1], b[2], b[3], b[4], b[5]
-            ));
-        }
-        let convert_seconds = t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        write_atomic(path, text.as_bytes())?;
-        return Ok(Written {
-            json: json!({"boxes": boxes.len()}),
-            convert_seconds,
-            write_seconds: t.elapsed().as_secs_f64(),
-        });
+    let boxes = solid.to_boxes();
+    let mut text = String::with_capacity(boxes.len() * 64);
+    for b in &boxes {
+        text.push_str(&format!(
+            "{} {} {} {} {} {}\n",
+            b[0], b[1], b[2], b[3], b[4], b[5]
+        ));
     }
-    let mesh = match (mode, parts) {
-        (MeshMode::Ortho, Some(parts)) => {
-            labelled_mesh(parts).context("orthogonal engine failed")?
-        }
-        (MeshMode::Ortho, None) => solid.to_mesh().context("orthogonal engine failed")?,
-        (MeshMode::Surfels, _) => solid.to_surfel_mesh().context("surfel mesh too large")?,
-    };
     let convert_seconds = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    csgkit::write_mesh(path, &mesh, csgkit::WriteOptions::default())
+    write_atomic(path, text.as_bytes())?;
+    Ok(Written {
+        json: json!({"boxes": boxes.len()}),
+        convert_seconds,
+        write_seconds: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// Writes `mesh`, built in `convert_seconds`, to `path`.
+fn write_mesh(mesh: &Mesh, path: &Path, convert_seconds: f64) -> anyhow::Result<Written> {
+    let t = Instant::now();
+    csgkit::write_mesh(path, mesh, csgkit::WriteOptions::default())
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(Written {
         json: json!({"vertices": mesh.vertex_count(), "faces": mesh.face_count()}),
@@ -346,7 +372,13 @@ fn load(path: &Path) -> anyhow::Result<Mesh> {
 fn run_demo(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     let result = showcase()?;
     if let Some(path) = &args.output {
-        let written = write_result(&result, None, path, MeshMode::Ortho)?;
+        let written = if is_box_file(path) {
+            write_boxes(&result, path)?
+        } else {
+            let t = Instant::now();
+            let mesh = result.to_mesh().context("orthogonal engine failed")?;
+            write_mesh(&mesh, path, t.elapsed().as_secs_f64())?
+        };
         println!("  wrote {} ({})", path.display(), written.json);
     }
     Ok(ExitCode::SUCCESS)

@@ -1,8 +1,9 @@
-//! `csgkit union | intersection | difference A B [C ...] -o OUT`: the exact mesh booleans.
+//! `csgkit union | intersection | difference | xor A B [C ...] -o OUT`: the exact mesh booleans.
 //!
-//! Reads every operand (any format [`csgkit::read_mesh`] reads), runs [`csgkit::exact::boolean`]
-//! once on all of them (`difference` is the first minus all others) and writes the result,
-//! whole or not at all, in the format the output's extension names.
+//! Reads every operand (any format [`csgkit::read_mesh`] reads), runs the exact engine through
+//! the facade ([`csgkit::ExactEngine`]) once on all of them (`difference` is the first minus
+//! all others) and writes the result, whole or not at all, in the format the output's
+//! extension names.
 //!
 //! The library names a faulty operand by its index; errors here name it by its file, so
 //! `csgkit union a.obj b.obj` reports "b.obj: operand 1 is not closed …".
@@ -18,12 +19,11 @@ use std::time::Instant;
 
 use anyhow::Context;
 use clap::Args;
-use csgkit::exact::{
-    Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, WindingRule,
-    boolean_expression,
-};
+use csgkit::exact::{Boolean, BooleanError, BooleanOptions, BooleanStats, WindingRule};
 use csgkit::mesh::{FaceMode, MeshReport};
-use csgkit::{Format, Mesh, Operation, WriteError, WriteOptions, write_mesh};
+use csgkit::{
+    Engine, ExactEngine, Format, Mesh, Operation, Stats, WriteError, WriteOptions, write_mesh,
+};
 use serde_json::json;
 
 use super::{load, warn_if_manifold_lost};
@@ -32,7 +32,7 @@ use crate::progress::{seconds_of, stage_name, with_bar};
 /// Below this many input faces the boolean ends before a progress bar would help.
 const PROGRESS_MIN_FACES: usize = 20_000;
 
-/// Arguments of `csgkit union`, `intersection` and `difference`.
+/// Arguments of `csgkit union`, `intersection`, `difference` and `xor`.
 #[derive(Args, Debug, Clone)]
 pub struct ExactArgs {
     /// The operands: two or more closed meshes (OBJ, STL, PLY or OFF); their faces may cross
@@ -138,7 +138,8 @@ impl Winding {
     }
 }
 
-/// Runs `csgkit union`, `intersection` or `difference` (and `repair`, a union of one operand);
+/// Runs `csgkit union`, `intersection`, `difference` or `xor` (and `repair`, a union of one
+/// operand);
 /// returns what the library reported.
 pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
     // The format is settled before any work, so a mistyped extension costs nothing.
@@ -171,7 +172,7 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
     Ok(result.stats)
 }
 
-/// Runs the boolean with a bar per stage; an error about an operand names its file.
+/// Runs the exact engine with a bar per stage; an error about an operand names its file.
 fn compute(
     op: Operation,
     args: &ExactArgs,
@@ -186,18 +187,28 @@ fn compute(
         split_non_manifold: args.manifold,
         ..BooleanOptions::default()
     };
-    let options = args.faces.apply(format, options);
-    let expression = Expression::of(op, operands.len());
-    let result = with_bar(faces, PROGRESS_MIN_FACES, |progress| {
-        boolean_expression(&expression, &operands, &options, progress)
-    });
-    result.map_err(|err| name_operand(err, &args.inputs))
+    let engine = ExactEngine {
+        options: args.faces.apply(format, options),
+    };
+    let output = with_bar(faces, PROGRESS_MIN_FACES, |progress| {
+        engine.apply(op, &operands, progress)
+    })
+    .map_err(|err| name_operand(err, &args.inputs))?;
+    let Stats::Exact(stats) = output.stats else {
+        unreachable!("the exact engine gives the exact engine's statistics")
+    };
+    Ok(Boolean {
+        mesh: output.mesh,
+        stats,
+    })
 }
 
 /// The library's error, under the file name of the operand it names (if any).
-fn name_operand(err: BooleanError, inputs: &[PathBuf]) -> anyhow::Error {
+fn name_operand(err: csgkit::Error, inputs: &[PathBuf]) -> anyhow::Error {
     let operand = match &err {
-        BooleanError::InvalidOperand(invalid) => inputs.get(invalid.operand()),
+        csgkit::Error::Boolean(BooleanError::InvalidOperand(invalid)) => {
+            inputs.get(invalid.operand())
+        }
         _ => None,
     };
     match operand {
@@ -289,13 +300,13 @@ mod tests {
     #[test]
     fn an_operand_error_names_the_file() {
         let inputs = [PathBuf::from("a.obj"), PathBuf::from("dir/b.stl")];
-        let err = BooleanError::InvalidOperand(InvalidOperand::Inverted {
+        let err = csgkit::Error::from(BooleanError::InvalidOperand(InvalidOperand::Inverted {
             operand: 1,
             volume: -1.0,
-        });
+        }));
         let message = format!("{:#}", name_operand(err, &inputs));
         assert!(message.starts_with("dir/b.stl: operand 1 "), "{message}");
-        let cancelled = BooleanError::Cancelled(csgkit::Cancelled);
+        let cancelled = csgkit::Error::from(BooleanError::Cancelled(csgkit::Cancelled));
         let message = format!("{:#}", name_operand(cancelled, &inputs));
         assert_eq!(message, "cancelled");
     }
