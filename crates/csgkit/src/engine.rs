@@ -7,8 +7,8 @@ use crate::Operation;
 use crate::discrete::{DiscreteStats, DiscretizeOptions, Grid, combine, labelled_mesh};
 use crate::error::Error;
 use crate::exact::{BooleanOptions, BooleanStats, Expression, boolean_expression};
-use crate::mesh::{Mesh, analyze_topology, measure};
-use crate::ortho::{MeshOptions, box_union_timed};
+use crate::mesh::Mesh;
+use crate::ortho::{MeshOptions, bounded_box, box_union_timed};
 use crate::progress::{Progress, Stage, StageClock};
 
 mod sealed {
@@ -192,7 +192,7 @@ impl Engine for OrthoEngine {
             if mesh.face_count() == 0 {
                 continue;
             }
-            let solid = axis_aligned_box(mesh).ok_or_else(|| {
+            let solid = bounded_box(mesh).ok_or_else(|| {
                 unsupported(format!(
                     "takes boxes only: operand {k} is not an axis-aligned box"
                 ))
@@ -213,31 +213,6 @@ impl Engine for OrthoEngine {
             }),
         })
     }
-}
-
-/// The box `[x0, y0, z0, x1, y1, z1]` that `mesh` bounds, if it bounds one (see
-/// [`OrthoEngine`]): the decisions are comparisons of input coordinates, and the count of
-/// times the surface covers the box, an integer, is the volume over the box's volume rounded
-/// to the nearest one; f64 sums of a box's faces are far closer than ½ to it.
-fn axis_aligned_box(mesh: &Mesh) -> Option<[f64; 6]> {
-    let measures = measure(mesh);
-    let bbox = measures.bbox?;
-    let (min, max) = (bbox.min, bbox.max);
-    let in_a_plane = |face: &[u32]| {
-        (0..3).any(|k| {
-            [min[k], max[k]].iter().any(|&plane| {
-                face.iter()
-                    .all(|&v| mesh.positions()[v as usize][k] == plane)
-            })
-        })
-    };
-    let box_volume = (0..3).map(|k| max[k] - min[k]).product::<f64>();
-    let covers = (measures.volume / box_volume).round();
-    let is_box = box_volume > 0.0
-        && mesh.faces().all(in_a_plane)
-        && analyze_topology(mesh).is_closed()
-        && covers >= 1.0;
-    is_box.then_some([min[0], min[1], min[2], max[0], max[1], max[2]])
 }
 
 /// The discrete engine on meshes: each operand discretised at its cell size, the operation

@@ -490,13 +490,8 @@ fn build(
         }
         "cube" => {
             let size = match argument(args, "size", 0) {
-                Some(Value::Number(s)) => [*s; 3],
-                Some(v) => {
-                    let s = vector(v).filter(|s| s.len() == 3);
-                    let s =
-                        s.ok_or_else(|| bad("cube size must be a number or 3 numbers".into()))?;
-                    [s[0], s[1], s[2]]
-                }
+                Some(v) => per_axis(v)
+                    .ok_or_else(|| bad("cube size must be a number or 3 numbers".into()))?,
                 None => [1.0; 3],
             };
             let centre = matches!(argument(args, "center", 1), Some(Value::Bool(true)));
@@ -564,13 +559,8 @@ fn build(
         }
         "square" => {
             let size = match argument(args, "size", 0) {
-                Some(Value::Number(s)) => [*s; 2],
-                Some(v) => {
-                    let s = vector(v).filter(|s| s.len() == 2);
-                    let s =
-                        s.ok_or_else(|| bad("square size must be a number or 2 numbers".into()))?;
-                    [s[0], s[1]]
-                }
+                Some(v) => per_axis(v)
+                    .ok_or_else(|| bad("square size must be a number or 2 numbers".into()))?,
                 None => [1.0; 2],
             };
             let centre = matches!(argument(args, "center", 1), Some(Value::Bool(true)));
@@ -672,12 +662,7 @@ fn linear_extrude(args: &[(Option<String>, Value)]) -> Result<Extrusion, String>
     let height = number(argument(args, "height", 0)).unwrap_or(100.0);
     let scale = match argument(args, "scale", usize::MAX) {
         None | Some(Value::Undef) => [1.0; 2],
-        Some(Value::Number(s)) => [*s; 2],
-        Some(v) => {
-            let s = vector(v).filter(|s| s.len() == 2);
-            let s = s.ok_or("linear_extrude scale must be a number or 2 numbers")?;
-            [s[0], s[1]]
-        }
+        Some(v) => per_axis(v).ok_or("linear_extrude scale must be a number or 2 numbers")?,
     };
     // OpenSCAD truncates slices and ignores fewer than 1, and clamps negative scales to 0.
     let slices = number(argument(args, "slices", usize::MAX)).filter(|&s| s >= 1.0);
@@ -693,6 +678,14 @@ fn linear_extrude(args: &[(Option<String>, Value)]) -> Result<Extrusion, String>
         scale,
         fragments: fragments(args),
     }))
+}
+
+/// A size or scale: one number for every axis, or one number per axis.
+fn per_axis<const N: usize>(value: &Value) -> Option<[f64; N]> {
+    match value {
+        Value::Number(s) => Some([*s; N]),
+        v => vector(v).and_then(|s| s.try_into().ok()),
+    }
 }
 
 /// A list of 2-vectors.

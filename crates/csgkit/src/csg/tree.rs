@@ -13,8 +13,8 @@ use crate::Operation;
 use crate::exact::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, boolean_expression,
 };
-use crate::mesh::{FaceId, Mesh, MeshParts, bounding_box};
-use crate::ortho::{MeshOptions, OrthoError, box_union};
+use crate::mesh::{Mesh, MeshParts};
+use crate::ortho::{MeshOptions, OrthoError, bounded_box, box_union};
 use crate::progress::Progress;
 
 use super::extrude::{ExtrudeError, Extrusion, Profile};
@@ -77,6 +77,11 @@ impl Node {
             transform: None,
             material: None,
         }
+    }
+
+    /// The map that places this node's points: its own transform, then `outer`.
+    fn placement(&self, outer: Affine) -> Affine {
+        self.transform.map_or(outer, |own| compose(outer, own))
     }
 
     /// An operation node without transform or material.
@@ -237,10 +242,7 @@ impl Flattened<'_, '_> {
         outer: Affine,
         material: Option<&str>,
     ) -> Result<Expression, CsgError> {
-        let transform = match node.transform {
-            Some(own) => compose(outer, own),
-            None => outer,
-        };
+        let transform = node.placement(outer);
         let material = node.material.as_deref().or(material);
         match &node.kind {
             NodeKind::Mesh { mesh, name } => self.leaf(mesh, name, transform, material),
@@ -326,23 +328,21 @@ impl Flattened<'_, '_> {
     }
 }
 
-/// Collects the boxes of a subtree made only of unions of axis-aligned boxes under
-/// axis-aligned transforms, with no material below its root; false for any other subtree.
+/// Collects the boxes of a subtree made only of unions of cuboid leaves that bound
+/// axis-aligned boxes once placed ([`bounded_box`]), with no material below its root; false
+/// for any other subtree.
 fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
-    let transform = match node.transform {
-        Some(own) => compose(outer, own),
-        None => outer,
-    };
+    let transform = node.placement(outer);
     match &node.kind {
         NodeKind::Apply(Operation::Union, children) => (children.iter())
             .all(|child| child.material.is_none() && boxes_of(child, transform, boxes)),
-        NodeKind::Mesh { mesh, .. } if is_axis_aligned(&transform) && is_box(mesh) => {
-            match placed(mesh, transform, None)
-                .as_ref()
-                .and_then(bounding_box)
-            {
+        // Only a bare cuboid (its eight corners, nothing else): the orthogonal engine keeps
+        // no other vertex, and a 2D shape's prism needs its ring in z = 0. A box moved by
+        // anything but a scaled signed permutation is no longer one.
+        NodeKind::Mesh { mesh, .. } if mesh.vertex_count() == 8 && bounded_box(mesh).is_some() => {
+            match placed(mesh, transform, None).as_ref().and_then(bounded_box) {
                 Some(b) => {
-                    boxes.push([b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]]);
+                    boxes.push(b);
                     true
                 }
                 None => false,
@@ -358,40 +358,6 @@ fn count_operations(node: &Node) -> usize {
         NodeKind::Apply(_, children) => 1 + children.iter().map(count_operations).sum::<usize>(),
         NodeKind::Extrude { .. } | NodeKind::Mesh { .. } => 0,
     }
-}
-
-/// Whether `transform` maps axis-aligned boxes to axis-aligned boxes: one non-zero entry in
-/// every row and column of its linear part (a scaled signed permutation).
-fn is_axis_aligned(transform: &Affine) -> bool {
-    let nonzero = |i: usize, j: usize| transform[i][j] != 0.0;
-    (0..3).all(|i| (0..3).filter(|&j| nonzero(i, j)).count() == 1)
-        && (0..3).all(|j| (0..3).filter(|&i| nonzero(i, j)).count() == 1)
-}
-
-/// Whether `mesh` is the closed, outward surface of its bounding box with only its eight
-/// corners as vertices (a cuboid).
-fn is_box(mesh: &Mesh) -> bool {
-    let Some(b) = bounding_box(mesh) else {
-        return false;
-    };
-    let corner = |p: &[f64; 3]| (0..3).all(|k| p[k] == b.min[k] || p[k] == b.max[k]);
-    let on_side = |face: &[u32]| {
-        (0..3).any(|k| {
-            let first = mesh.positions()[face[0] as usize][k];
-            (first == b.min[k] || first == b.max[k])
-                && face
-                    .iter()
-                    .all(|&v| mesh.positions()[v as usize][k] == first)
-        })
-    };
-    mesh.vertex_count() == 8
-        && (0..3).all(|k| b.min[k] < b.max[k])
-        && mesh.positions().iter().all(corner)
-        && (0..mesh.face_count()).all(|f| on_side(mesh.face(FaceId::new(f))))
-        && {
-            let report = mesh.report();
-            report.is_valid_solid() && report.measures.volume > 0.0
-        }
 }
 
 /// `outer ∘ inner`: the map that applies `inner`, then `outer`.

@@ -407,11 +407,12 @@ impl<'a> Cdt<'a> {
             rim: Vec::new(),
             ids: Vec::new(),
         };
+        // f64 approximations: they choose shapes (insertion order, diagonals), never topology.
+        let coords = cdt.coords();
         let mut order: Vec<u32> = (3..n).collect();
         if points.len() > DELAUNAY_BEFORE_SEGMENTS {
             // Each location walks from the last new triangle: in coordinate order the walks
             // stay short.
-            let coords = cdt.coords();
             order.sort_by(|&a, &b| {
                 coords[a as usize]
                     .partial_cmp(&coords[b as usize])
@@ -425,13 +426,12 @@ impl<'a> Cdt<'a> {
             // Points inserted without flips leave long thin triangles, which every segment
             // then crosses by the hundred (the overlay of two coplanar fans puts hundreds of
             // points on one triangle); Delaunay flips first keep the crossings few.
-            let coords = cdt.coords();
             cdt.flip_while(&coords, 16 * cdt.tris.len() + 64, delaunay_flip);
         }
         for (s, seg) in segments.iter().enumerate() {
             cdt.insert_segment(s as u32, seg[0], seg[1])?;
         }
-        cdt.improve();
+        cdt.improve(&coords);
         Ok(cdt)
     }
 
@@ -452,14 +452,13 @@ impl<'a> Cdt<'a> {
     ///   of flat triangles only falls and this phase ends. Flat triangles are what rounding
     ///   folds: three intersection points along one nearly straight curve, like the
     ///   crossings of a drill with the fan of a face that an earlier boolean rounded.
-    fn improve(&mut self) {
+    fn improve(&mut self, coords: &[[f64; 2]]) {
         if self.tris.len() < 2 {
             return;
         }
-        let coords = self.coords();
         let budget = 16 * self.tris.len() + 64;
-        self.flip_while(&coords, budget, delaunay_flip);
-        self.flip_while(&coords, budget, |[pa, pb, pc, pd]| {
+        self.flip_while(coords, budget, delaunay_flip);
+        self.flip_while(coords, budget, |[pa, pb, pc, pd]| {
             let now = usize::from(is_flat(pa, pb, pc)) + usize::from(is_flat(pb, pd, pc));
             let after = usize::from(is_flat(pa, pb, pd)) + usize::from(is_flat(pa, pd, pc));
             after < now

@@ -72,6 +72,7 @@ pub use vox::{VoxBoxes, VoxOptions, read_vox};
 use grid::RankedBoxes;
 use rayon::prelude::*;
 
+use crate::mesh::{Mesh, analyze_topology, measure};
 use crate::progress::{Cancelled, Progress, Stage, StageClock};
 
 /// Why a box union failed.
@@ -190,6 +191,33 @@ pub fn box_union_vertices(
             degrees: v.degrees,
         })
         .collect())
+}
+
+/// The box `[x0, y0, z0, x1, y1, z1]` that `mesh` bounds, if it bounds one: every face lies
+/// in a plane of its bounding box and the surface is closed with positive volume, so it covers
+/// the box a whole number of times (the orthogonal engine's operands, and the box leaves of CSG
+/// trees). The decisions are comparisons of input coordinates, and the count of
+/// times the surface covers the box, an integer, is the volume over the box's volume rounded
+/// to the nearest one; f64 sums of a box's faces are far closer than ½ to it.
+pub fn bounded_box(mesh: &Mesh) -> Option<[f64; 6]> {
+    let measures = measure(mesh);
+    let bbox = measures.bbox?;
+    let (min, max) = (bbox.min, bbox.max);
+    let in_a_plane = |face: &[u32]| {
+        (0..3).any(|k| {
+            [min[k], max[k]].iter().any(|&plane| {
+                face.iter()
+                    .all(|&v| mesh.positions()[v as usize][k] == plane)
+            })
+        })
+    };
+    let box_volume = (0..3).map(|k| max[k] - min[k]).product::<f64>();
+    let covers = (measures.volume / box_volume).round();
+    let is_box = box_volume > 0.0
+        && mesh.faces().all(in_a_plane)
+        && analyze_topology(mesh).is_closed()
+        && covers >= 1.0;
+    is_box.then_some([min[0], min[1], min[2], max[0], max[1], max[2]])
 }
 
 /// Computes the B-rep of the union of `boxes` (conforming degrees): steps 1–3.
