@@ -30,7 +30,8 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use super::tree::{Affine, Node, NodeKind};
+use super::tree::{Node, NodeKind};
+use crate::mesh::Affine;
 use crate::Operation;
 use crate::io::{ReadError, read_mesh};
 use crate::mesh::Mesh;
