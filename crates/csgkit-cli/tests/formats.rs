@@ -46,7 +46,11 @@ fn a_union_of_3mf_and_glb_keeps_materials_and_colours() {
     let b = write(&dir, "b.glb", &painted([1.0; 3], [3.0; 3], "glass", BLUE));
     let out = dir.path().join("out.3mf");
     let output = csgkit_ok(&["union", arg(&a), arg(&b), "-o", arg(&out)]);
-    assert!(output.stderr.is_empty(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        output.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
     let mesh = csgkit::read_mesh(&out).expect("the union reads back").mesh;
     assert_eq!(csgkit::mesh::measure(&mesh).volume, 15.0);
     let (materials, colors) = (mesh.face_materials().unwrap(), mesh.face_colors().unwrap());
@@ -78,7 +82,10 @@ fn writing_gltf_warns_once_when_coordinates_are_rounded() {
     let output = csgkit_ok(&["union", arg(&a), arg(&b), "-o", arg(&out)]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
-    assert!(stderr.starts_with("csgkit: warning: GLB stores f32: "), "{stderr}");
+    assert!(
+        stderr.starts_with("csgkit: warning: GLB stores f32: "),
+        "{stderr}"
+    );
     let exact = dir.path().join("out.3mf");
     let output = csgkit_ok(&["union", arg(&a), arg(&b), "-o", arg(&exact)]);
     assert!(output.stderr.is_empty());
@@ -94,7 +101,10 @@ fn two_items(dir: &TempDir) -> PathBuf {
     }
     let mut triangles = String::new();
     for f in cube.faces() {
-        triangles += &format!("<triangle v1=\"{}\" v2=\"{}\" v3=\"{}\"/>\n", f[0], f[1], f[2]);
+        triangles += &format!(
+            "<triangle v1=\"{}\" v2=\"{}\" v3=\"{}\"/>\n",
+            f[0], f[1], f[2]
+        );
     }
     let model = format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"inch\" \
@@ -124,7 +134,14 @@ fn build_items_are_operands_unless_merged() {
     csgkit_ok(&["difference", arg(&two), arg(&far), "-o", arg(&out)]);
     let first_minus_second = side.powi(3) - overlap.powi(3);
     assert!((volume(&out) - first_minus_second).abs() < 1e-9 * first_minus_second);
-    csgkit_ok(&["difference", "--merge", arg(&two), arg(&far), "-o", arg(&out)]);
+    csgkit_ok(&[
+        "difference",
+        "--merge",
+        arg(&two),
+        arg(&far),
+        "-o",
+        arg(&out),
+    ]);
     let union = 2.0 * side.powi(3) - overlap.powi(3);
     assert!((volume(&out) - union).abs() < 1e-9 * union);
     // One file of two items is enough for a union.
@@ -133,12 +150,21 @@ fn build_items_are_operands_unless_merged() {
     let single = csgkit(&["intersection", arg(&far), "-o", arg(&out)]);
     assert_eq!(single.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&single.stderr);
-    assert!(stderr.contains("the intersection needs 2 or more operands; the files give 1"), "{stderr}");
+    assert!(
+        stderr.contains("the intersection needs 2 or more operands; the files give 1"),
+        "{stderr}"
+    );
     let info = csgkit_ok(&["info", arg(&two)]);
     let text = String::from_utf8_lossy(&info.stdout);
     assert!(text.contains("format:      3MF (binary)"), "{text}");
-    assert!(text.contains("unit:        inch (read as millimetres)"), "{text}");
-    assert!(text.contains("parts:       2\n  box: 12 faces\n  box: 12 faces\n"), "{text}");
+    assert!(
+        text.contains("unit:        inch (read as millimetres)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("parts:       2\n  box: 12 faces\n  box: 12 faces\n"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -146,7 +172,8 @@ fn a_zip_that_is_not_a_3mf_is_an_exact_error() {
     let dir = tempfile::tempdir().expect("temporary folder");
     let path = dir.path().join("notes.3mf");
     let mut zip = zip::ZipWriter::new(std::fs::File::create(&path).expect("a new file"));
-    zip.start_file("notes.txt", zip::write::SimpleFileOptions::default()).expect("an entry");
+    zip.start_file("notes.txt", zip::write::SimpleFileOptions::default())
+        .expect("an entry");
     zip.write_all(b"not a model").expect("written");
     zip.finish().expect("a zip archive");
     let output = csgkit(&["info", arg(&path)]);

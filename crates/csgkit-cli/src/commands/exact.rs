@@ -201,7 +201,9 @@ fn load_operands(paths: &[PathBuf], merge: bool) -> anyhow::Result<Vec<(String, 
         let loaded = load_parts(path)?;
         let file = path.display().to_string();
         if merge || loaded.parts.len() == 1 {
-            let merged = loaded.merge().with_context(|| format!("cannot load {file}"))?;
+            let merged = loaded
+                .merge()
+                .with_context(|| format!("cannot load {file}"))?;
             operands.push((file, merged.mesh));
         } else {
             for (k, part) in loaded.parts.into_iter().enumerate() {

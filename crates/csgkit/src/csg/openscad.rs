@@ -23,8 +23,8 @@
 
 use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
 use super::tree::{Node, NodeKind};
-use crate::mesh::Affine;
 use crate::Operation;
+use crate::mesh::Affine;
 use crate::mesh::Mesh;
 use crate::primitives::{Fragments, circle, cuboid, uv_sphere};
 

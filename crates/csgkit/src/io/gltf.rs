@@ -95,6 +95,7 @@ pub(crate) fn read(data: &[u8], external: External<'_>) -> Result<LoadedMeshes, 
     };
     let root = gltf::json::deserialize::from_slice(json)
         .map_err(|e| structure(format, format!("invalid JSON: {e}")))?;
+    check_position_indices(&root, format)?;
     let document = gltf::Document::from_json(root).map_err(|e| validation(format, e))?;
     let buffers = Buffers::load(&document, bin, external, format)?;
     let mut reader = Reader {
@@ -104,7 +105,10 @@ pub(crate) fn read(data: &[u8], external: External<'_>) -> Result<LoadedMeshes, 
         raw_vertex_count: 0,
         nodes: document.nodes().count(),
     };
-    match document.default_scene().or_else(|| document.scenes().next()) {
+    match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
         Some(scene) => {
             for node in scene.nodes() {
                 reader.visit(node, IDENTITY, 0)?;
@@ -112,7 +116,9 @@ pub(crate) fn read(data: &[u8], external: External<'_>) -> Result<LoadedMeshes, 
         }
         None => {
             for mesh in document.meshes() {
-                let name = mesh.name().map_or_else(|| format!("meshes[{}]", mesh.index()), str::to_owned);
+                let name = mesh
+                    .name()
+                    .map_or_else(|| format!("meshes[{}]", mesh.index()), str::to_owned);
                 reader.part(&mesh, IDENTITY, name)?;
             }
         }
@@ -146,6 +152,23 @@ fn validation(format: Format, error: gltf::Error) -> ParseError {
         },
         other => structure(format, other.to_string()),
     }
+}
+
+/// Fails unless every primitive's `POSITION` names an accessor that exists: `gltf`'s
+/// validation indexes the accessors with it unchecked (and would panic).
+fn check_position_indices(root: &gltf::json::Root, format: Format) -> Result<(), ParseError> {
+    let positions = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&positions) {
+                if index.value() >= root.accessors.len() {
+                    let element = format!("meshes[{m}].primitives[{p}].attributes[\"POSITION\"]");
+                    return Err(within(element, structure(format, "index out of bounds")));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A little-endian `u32` at `offset`, if the data holds it.
@@ -197,7 +220,11 @@ fn glb_chunks(data: &[u8]) -> Result<(&[u8], Option<&[u8]>), ParseError> {
     };
     if kind != JSON_CHUNK {
         let reason = "the first chunk is not the JSON chunk";
-        return Err(super::error::malformed(Format::Glb, Location::Byte(16), reason));
+        return Err(super::error::malformed(
+            Format::Glb,
+            Location::Byte(16),
+            reason,
+        ));
     }
     let mut offset = next;
     while let Some((kind, body, next)) = chunk(offset, "GLB chunk")? {
@@ -222,7 +249,12 @@ struct Reader<'a> {
 
 impl Reader<'_> {
     /// Visits `node` and its children under `outer`.
-    fn visit(&mut self, node: gltf::Node<'_>, outer: Affine, depth: usize) -> Result<(), ParseError> {
+    fn visit(
+        &mut self,
+        node: gltf::Node<'_>,
+        outer: Affine,
+        depth: usize,
+    ) -> Result<(), ParseError> {
         let element = || format!("nodes[{}]", node.index());
         if depth > self.nodes {
             let reason = "the node hierarchy has a cycle";
@@ -241,7 +273,12 @@ impl Reader<'_> {
     }
 
     /// Reads `mesh` as one part placed by `placement`.
-    fn part(&mut self, mesh: &gltf::Mesh<'_>, placement: Affine, name: String) -> Result<(), ParseError> {
+    fn part(
+        &mut self,
+        mesh: &gltf::Mesh<'_>,
+        placement: Affine,
+        name: String,
+    ) -> Result<(), ParseError> {
         let mut builder = MeshBuilder::with_capacity(0, 0);
         // Vertex offset of each POSITION accessor read so far.
         let mut offsets: FxHashMap<usize, u32> = FxHashMap::default();
@@ -276,7 +313,10 @@ impl Reader<'_> {
     ) -> Result<(), ParseError> {
         let format = self.format;
         if primitive.mode() != Mode::Triangles {
-            let feature = format!("primitive mode {:?} (csgkit reads Triangles)", primitive.mode());
+            let feature = format!(
+                "primitive mode {:?} (csgkit reads Triangles)",
+                primitive.mode()
+            );
             return Err(ParseError::Feature { format, feature });
         }
         let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
@@ -298,7 +338,9 @@ impl Reader<'_> {
                 offset
             }
         };
-        let attribute = |semantic: gltf::Semantic, name: &str| -> Result<Option<gltf::Accessor<'_>>, ParseError> {
+        let attribute = |semantic: gltf::Semantic,
+                         name: &str|
+         -> Result<Option<gltf::Accessor<'_>>, ParseError> {
             match primitive.get(&semantic) {
                 Some(accessor) if accessor.count() != count => Err(structure(
                     format,
@@ -312,14 +354,21 @@ impl Reader<'_> {
             None => None,
         };
         let uvs = match attribute(gltf::Semantic::TexCoords(0), "TEXCOORD_0")? {
-            Some(accessor) => Some(read_f32s::<2>(&self.buffers, &accessor, "TEXCOORD_0", format)?),
+            Some(accessor) => Some(read_f32s::<2>(
+                &self.buffers,
+                &accessor,
+                "TEXCOORD_0",
+                format,
+            )?),
             None => None,
         };
         let indices = match primitive.indices() {
             Some(accessor) => Some(read_indices(&self.buffers, &accessor, format)?),
             None => None,
         };
-        let corners = indices.as_ref().map_or(count, |indices| indices.values.len());
+        let corners = indices
+            .as_ref()
+            .map_or(count, |indices| indices.values.len());
         if corners % 3 != 0 {
             let reason = format!("{corners} vertices do not make whole triangles");
             return Err(structure(format, reason));
@@ -379,9 +428,21 @@ fn node_transform(transform: &gltf::scene::Transform) -> Affine {
         } => {
             let [x, y, z, w] = rotation.map(f64::from);
             let rotation = [
-                [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w)],
-                [2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w)],
-                [2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y)],
+                [
+                    1.0 - 2.0 * (y * y + z * z),
+                    2.0 * (x * y - z * w),
+                    2.0 * (x * z + y * w),
+                ],
+                [
+                    2.0 * (x * y + z * w),
+                    1.0 - 2.0 * (x * x + z * z),
+                    2.0 * (y * z - x * w),
+                ],
+                [
+                    2.0 * (x * z - y * w),
+                    2.0 * (y * z + x * w),
+                    1.0 - 2.0 * (x * x + y * y),
+                ],
             ];
             let scale = scale.map(f64::from);
             [0, 1, 2].map(|i| {
@@ -413,7 +474,9 @@ fn percent_decoded(uri: &str) -> String {
     let mut out = Vec::with_capacity(bytes.len());
     let mut k = 0;
     while k < bytes.len() {
-        let hex = bytes.get(k + 1..k + 3).and_then(|h| std::str::from_utf8(h).ok());
+        let hex = bytes
+            .get(k + 1..k + 3)
+            .and_then(|h| std::str::from_utf8(h).ok());
         match (bytes[k], hex.and_then(|h| u8::from_str_radix(h, 16).ok())) {
             (b'%', Some(byte)) => {
                 out.push(byte);

@@ -170,12 +170,16 @@ fn model_target(xml: &[u8]) -> Result<Option<String>, ParseError> {
 }
 
 /// The bytes of the part `name`, decompressed.
-fn read_part(archive: &mut zip::ZipArchive<Cursor<&[u8]>>, name: &str) -> Result<Vec<u8>, ParseError> {
+fn read_part(
+    archive: &mut zip::ZipArchive<Cursor<&[u8]>>,
+    name: &str,
+) -> Result<Vec<u8>, ParseError> {
     let mut file = archive
         .by_name(name)
         .map_err(|e| structure(format!("cannot open part {name}: {e}")))?;
-    // The declared size is only a hint: the compressed stream decides.
-    let mut bytes = Vec::with_capacity(file.size().min(1 << 30) as usize);
+    // The declared size is only a hint (the compressed stream decides), so it reserves no
+    // more than 64 MiB up front.
+    let mut bytes = Vec::with_capacity(file.size().min(1 << 26) as usize);
     file.read_to_end(&mut bytes)
         .map_err(|e| structure(format!("cannot read part {name}: {e}")))?;
     Ok(bytes)
@@ -289,7 +293,12 @@ impl<'x> Parser<'x> {
     }
 
     /// The required attribute `name` of `element` as a number.
-    fn number(&self, attrs: &Attributes<'_>, name: &str, element: &dyn Fn() -> String) -> Result<f64, ParseError> {
+    fn number(
+        &self,
+        attrs: &Attributes<'_>,
+        name: &str,
+        element: &dyn Fn() -> String,
+    ) -> Result<f64, ParseError> {
         let raw = attrs
             .raw(name.as_bytes())
             .ok_or_else(|| self.fail(element(), format!("missing attribute {name}")))?;
@@ -297,24 +306,42 @@ impl<'x> Parser<'x> {
     }
 
     /// The attribute `name` of `element` as a `u32`, if present.
-    fn index(&self, attrs: &Attributes<'_>, name: &str, element: &dyn Fn() -> String) -> Result<Option<u32>, ParseError> {
+    fn index(
+        &self,
+        attrs: &Attributes<'_>,
+        name: &str,
+        element: &dyn Fn() -> String,
+    ) -> Result<Option<u32>, ParseError> {
         let Some(raw) = attrs.raw(name.as_bytes()) else {
             return Ok(None);
         };
-        let value = parse_i64(raw, self.at()).map_err(|e| within(format!("{}, attribute {name}", element()), e))?;
-        u32::try_from(value)
-            .map(Some)
-            .map_err(|_| self.fail(element(), format!("attribute {name} is {value}, not an index")))
+        let value = parse_i64(raw, self.at())
+            .map_err(|e| within(format!("{}, attribute {name}", element()), e))?;
+        u32::try_from(value).map(Some).map_err(|_| {
+            self.fail(
+                element(),
+                format!("attribute {name} is {value}, not an index"),
+            )
+        })
     }
 
     /// The required attribute `name` of `element` as a `u32`.
-    fn required_index(&self, attrs: &Attributes<'_>, name: &str, element: &dyn Fn() -> String) -> Result<u32, ParseError> {
+    fn required_index(
+        &self,
+        attrs: &Attributes<'_>,
+        name: &str,
+        element: &dyn Fn() -> String,
+    ) -> Result<u32, ParseError> {
         self.index(attrs, name, element)?
             .ok_or_else(|| self.fail(element(), format!("missing attribute {name}")))
     }
 
     /// The optional `transform` attribute of `element`: 12 numbers, 3MF's row-vector matrix.
-    fn transform(&self, attrs: &Attributes<'_>, element: &dyn Fn() -> String) -> Result<Affine, ParseError> {
+    fn transform(
+        &self,
+        attrs: &Attributes<'_>,
+        element: &dyn Fn() -> String,
+    ) -> Result<Affine, ParseError> {
         let Some(raw) = attrs.raw(b"transform") else {
             return Ok(IDENTITY);
         };
@@ -329,7 +356,10 @@ impl<'x> Parser<'x> {
             count += 1;
         }
         if count != 12 {
-            return Err(self.fail(element(), format!("transform has {count} numbers; it needs 12")));
+            return Err(self.fail(
+                element(),
+                format!("transform has {count} numbers; it needs 12"),
+            ));
         }
         // 3MF multiplies row vectors: x' = x·m00 + y·m10 + z·m20 + m30.
         Ok([0, 1, 2].map(|i| [values[i], values[3 + i], values[6 + i], values[9 + i]]))
@@ -340,7 +370,11 @@ impl<'x> Parser<'x> {
 fn is_group(name: &[u8]) -> bool {
     matches!(
         name,
-        b"basematerials" | b"colorgroup" | b"texture2dgroup" | b"compositematerials" | b"multiproperties"
+        b"basematerials"
+            | b"colorgroup"
+            | b"texture2dgroup"
+            | b"compositematerials"
+            | b"multiproperties"
     )
 }
 
@@ -382,7 +416,9 @@ impl Model {
                 }
                 _ if !seen_model => {
                     let found = String::from_utf8_lossy(&name).into_owned();
-                    return Err(structure(format!("the root element is <{found}>, not <model>")));
+                    return Err(structure(format!(
+                        "the root element is <{found}>, not <model>"
+                    )));
                 }
                 b"object" => object = Some(open_object(&p, &attrs)?),
                 b"mesh" => {
@@ -440,7 +476,9 @@ impl Model {
             if let Some(open) = object.take() {
                 let element = format!("object {}", open.id);
                 let mesh = match open.builder {
-                    Some(builder) => Some(builder.finish().map_err(|e| within(element.clone(), e))?),
+                    Some(builder) => {
+                        Some(builder.finish().map_err(|e| within(element.clone(), e))?)
+                    }
                     None => None,
                 };
                 let done = Object {
@@ -455,7 +493,9 @@ impl Model {
         } else if is_group(name) {
             if let Some((id, entries)) = group.take() {
                 if self.groups.insert(id, entries).is_some() {
-                    return Err(p.fail(format!("property group {id}"), "a second group has this id"));
+                    return Err(
+                        p.fail(format!("property group {id}"), "a second group has this id")
+                    );
                 }
             }
         }
@@ -463,7 +503,12 @@ impl Model {
     }
 
     /// A `<vertex>` of the open object's mesh.
-    fn vertex(&mut self, p: &Parser<'_>, attrs: &Attributes<'_>, object: Option<&mut Open>) -> Result<(), ParseError> {
+    fn vertex(
+        &mut self,
+        p: &Parser<'_>,
+        attrs: &Attributes<'_>,
+        object: Option<&mut Open>,
+    ) -> Result<(), ParseError> {
         let Some(open) = object else {
             return Err(p.fail("the resources", "a vertex outside any object"));
         };
@@ -484,7 +529,12 @@ impl Model {
     }
 
     /// A `<triangle>` of the open object's mesh, with its property (p1 for the face).
-    fn triangle(&mut self, p: &Parser<'_>, attrs: &Attributes<'_>, object: Option<&mut Open>) -> Result<(), ParseError> {
+    fn triangle(
+        &mut self,
+        p: &Parser<'_>,
+        attrs: &Attributes<'_>,
+        object: Option<&mut Open>,
+    ) -> Result<(), ParseError> {
         let Some(open) = object else {
             return Err(p.fail("the resources", "a triangle outside any object"));
         };
@@ -521,9 +571,17 @@ impl Model {
         let mut attributes = FaceAttributes::default();
         if let Some((pid, index)) = property {
             let Some(group) = self.groups.get(&pid) else {
-                return Err(p.fail(element(), format!("pid {pid} names no property group defined before it")));
+                return Err(p.fail(
+                    element(),
+                    format!("pid {pid} names no property group defined before it"),
+                ));
             };
-            let out_of_range = || p.fail(element(), format!("p1 {index} is past the end of property group {pid}"));
+            let out_of_range = || {
+                p.fail(
+                    element(),
+                    format!("p1 {index} is past the end of property group {pid}"),
+                )
+            };
             match group {
                 Group::Base(entries) => {
                     let (name, color) = entries.get(index as usize).ok_or_else(out_of_range)?;
@@ -536,11 +594,19 @@ impl Model {
                 Group::Other => {}
             }
         }
-        builder.end_face(attributes).map_err(|e| within(element(), e))
+        builder
+            .end_face(attributes)
+            .map_err(|e| within(element(), e))
     }
 
     /// Appends the meshes of object `id`, placed by `transform`, to `out`.
-    fn place(&self, id: u32, transform: Affine, depth: usize, out: &mut Vec<Mesh>) -> Result<(), ParseError> {
+    fn place(
+        &self,
+        id: u32,
+        transform: Affine,
+        depth: usize,
+        out: &mut Vec<Mesh>,
+    ) -> Result<(), ParseError> {
         let Some(object) = self.objects.get(&id) else {
             return Err(structure(format!("object {id} is not defined")));
         };
@@ -551,7 +617,9 @@ impl Model {
         }
         if let Some(mesh) = &object.mesh {
             let moved = transformed(mesh, &transform).ok_or_else(|| {
-                structure(format!("object {id} is placed by a singular or non-finite transform"))
+                structure(format!(
+                    "object {id} is placed by a singular or non-finite transform"
+                ))
             })?;
             out.push(moved);
         }
@@ -622,7 +690,11 @@ fn open_object(p: &Parser<'_>, attrs: &Attributes<'_>) -> Result<Open, ParseErro
 }
 
 /// A `<component>` of the open object.
-fn component(p: &Parser<'_>, attrs: &Attributes<'_>, object: Option<&mut Open>) -> Result<(), ParseError> {
+fn component(
+    p: &Parser<'_>,
+    attrs: &Attributes<'_>,
+    object: Option<&mut Open>,
+) -> Result<(), ParseError> {
     let Some(open) = object else {
         return Err(p.fail("the resources", "a component outside any object"));
     };
@@ -638,7 +710,12 @@ fn component(p: &Parser<'_>, attrs: &Attributes<'_>, object: Option<&mut Open>) 
 }
 
 /// A `<base>` or `<color>` entry of the open property group.
-fn group_entry(p: &Parser<'_>, name: &[u8], attrs: &Attributes<'_>, group: Option<&mut (u32, Group)>) -> Result<(), ParseError> {
+fn group_entry(
+    p: &Parser<'_>,
+    name: &[u8],
+    attrs: &Attributes<'_>,
+    group: Option<&mut (u32, Group)>,
+) -> Result<(), ParseError> {
     let Some((id, entries)) = group else {
         return Ok(());
     };
@@ -649,13 +726,19 @@ fn group_entry(p: &Parser<'_>, name: &[u8], attrs: &Attributes<'_>, group: Optio
             .ok_or_else(|| p.fail(element(k), format!("missing attribute {key}")))?;
         parse_color(raw).ok_or_else(|| {
             let shown = String::from_utf8_lossy(raw);
-            p.fail(element(k), format!("{key} {shown:?} is not #RRGGBB or #RRGGBBAA"))
+            p.fail(
+                element(k),
+                format!("{key} {shown:?} is not #RRGGBB or #RRGGBBAA"),
+            )
         })
     };
     match (name, entries) {
         (b"base", Group::Base(list)) => {
             let k = list.len();
-            let label = attrs.get(b"name").map(text).unwrap_or_else(|| format!("material {k}"));
+            let label = attrs
+                .get(b"name")
+                .map(text)
+                .unwrap_or_else(|| format!("material {k}"));
             list.push((label, color_of("displaycolor", k)?));
         }
         (b"color", Group::Colors(list)) => {

@@ -326,7 +326,8 @@ pub fn concatenate(meshes: &[Mesh]) -> Result<Mesh, InvalidMesh> {
             count: out.positions.len(),
         })?;
         out.positions.extend_from_slice(&p.positions);
-        out.corners.extend(p.corners.iter().map(|&v| v.wrapping_add(offset)));
+        out.corners
+            .extend(p.corners.iter().map(|&v| v.wrapping_add(offset)));
         if let Some(starts) = out.face_starts.as_mut() {
             for face in mesh.faces() {
                 let last = starts[starts.len() - 1];
@@ -335,21 +336,43 @@ pub fn concatenate(meshes: &[Mesh]) -> Result<Mesh, InvalidMesh> {
         }
         let faces = mesh.face_count();
         let named = |ids: Option<&[u32]>, names: &[String], table: &mut Names| match ids {
-            Some(ids) => ids.iter().map(|&id| table.id(&names[id as usize])).collect(),
+            Some(ids) => ids
+                .iter()
+                .map(|&id| table.id(&names[id as usize]))
+                .collect(),
             None => vec![table.id(DEFAULT_NAME); faces],
         };
         if let Some(ids) = out.face_materials.as_mut() {
-            ids.extend(named(p.face_materials.as_deref(), &p.materials, &mut materials));
+            ids.extend(named(
+                p.face_materials.as_deref(),
+                &p.materials,
+                &mut materials,
+            ));
         }
         if let Some(ids) = out.face_groups.as_mut() {
             ids.extend(named(p.face_groups.as_deref(), &p.groups, &mut groups));
         }
         extend(&mut out.face_colors, p.face_colors.as_deref(), WHITE, faces);
         let corners = mesh.corner_count();
-        extend(&mut out.corner_uvs, p.corner_uvs.as_deref(), [0.0; 2], corners);
-        extend(&mut out.corner_normals, p.corner_normals.as_deref(), [0.0; 3], corners);
+        extend(
+            &mut out.corner_uvs,
+            p.corner_uvs.as_deref(),
+            [0.0; 2],
+            corners,
+        );
+        extend(
+            &mut out.corner_normals,
+            p.corner_normals.as_deref(),
+            [0.0; 3],
+            corners,
+        );
         let vertices = mesh.vertex_count();
-        extend(&mut out.vertex_colors, p.vertex_colors.as_deref(), WHITE, vertices);
+        extend(
+            &mut out.vertex_colors,
+            p.vertex_colors.as_deref(),
+            WHITE,
+            vertices,
+        );
         for library in &p.material_libraries {
             if !out.material_libraries.contains(library) {
                 out.material_libraries.push(library.clone());

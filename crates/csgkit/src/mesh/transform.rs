@@ -120,14 +120,26 @@ mod tests {
         assert_eq!(transformed(&cube, &IDENTITY), Some(cube.clone()));
         let flat = [[0.0; 4], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
         assert_eq!(transformed(&cube, &flat), None);
-        let shift = [[1.0, 0.0, 0.0, 5.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
+        let shift = [
+            [1.0, 0.0, 0.0, 5.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+        ];
         let mut parts = cube.clone().into_parts();
         parts.corner_normals = Some(vec![[3.0, 4.0, 0.0]; cube.corner_count()]);
         let with_normals = Mesh::from_parts(parts).unwrap();
         // x doubled and mirrored: the normal (3, 4, 0) of a plane becomes (-1.5, 4, 0), length 5.
-        let normal = transformed(&with_normals, &mirror).unwrap().corner_normals().unwrap()[0];
+        let normal = transformed(&with_normals, &mirror)
+            .unwrap()
+            .corner_normals()
+            .unwrap()[0];
         let expected = [-1.5, 4.0, 0.0].map(|x: f64| x * 5.0 / 4.272001872658765);
-        assert!(normal.iter().zip(expected).all(|(a, b)| (f64::from(*a) - b).abs() < 1e-6));
+        assert!(
+            normal
+                .iter()
+                .zip(expected)
+                .all(|(a, b)| (f64::from(*a) - b).abs() < 1e-6)
+        );
         assert_eq!(compose(shift, mirror)[0], [-2.0, 0.0, 0.0, 6.0]);
     }
 }

@@ -28,19 +28,28 @@ impl<'a> Buffers<'a> {
             let bytes: Cow<'a, [u8]> = match buffer.source() {
                 gltf::buffer::Source::Bin => match bin {
                     Some(bin) => Cow::Borrowed(bin),
-                    None => return Err(fail("it is the GLB binary chunk, which the file lacks".into())),
+                    None => {
+                        return Err(fail(
+                            "it is the GLB binary chunk, which the file lacks".into(),
+                        ));
+                    }
                 },
                 gltf::buffer::Source::Uri(uri) => match data_uri(uri) {
                     Some(decoded) => Cow::Owned(decoded.map_err(fail)?),
                     None => {
                         let name = percent_decoded(uri);
-                        Cow::Owned(external(&name).map_err(|e| fail(format!("cannot read {name}: {e}")))?)
+                        Cow::Owned(
+                            external(&name)
+                                .map_err(|e| fail(format!("cannot read {name}: {e}")))?,
+                        )
                     }
                 },
             };
             if bytes.len() < buffer.length() {
                 let (held, declared) = (bytes.len(), buffer.length());
-                return Err(fail(format!("it holds {held} bytes, byteLength says {declared}")));
+                return Err(fail(format!(
+                    "it holds {held} bytes, byteLength says {declared}"
+                )));
             }
             data.push(bytes);
         }
@@ -89,9 +98,14 @@ fn layout<'b>(
     let size = accessor.size();
     let stride = view.stride().unwrap_or(size);
     if stride < size {
-        return Err(fail(format!("byteStride {stride} is less than its element size {size}")));
+        return Err(fail(format!(
+            "byteStride {stride} is less than its element size {size}"
+        )));
     }
-    let view_end = view.offset().checked_add(view.length()).unwrap_or(usize::MAX);
+    let view_end = view
+        .offset()
+        .checked_add(view.length())
+        .unwrap_or(usize::MAX);
     if view_end > buffer.len() {
         return Err(fail(format!(
             "bufferViews[{}] ends at byte {view_end}, past the end of buffers[{}] ({} bytes)",
@@ -146,14 +160,22 @@ pub(super) fn read_f32s<const N: usize>(
     let kind = (accessor.data_type(), accessor.normalized());
     let usable = matches!(
         kind,
-        (DataType::F32, _) | (DataType::U8 | DataType::U16 | DataType::I8 | DataType::I16, true)
+        (DataType::F32, _)
+            | (
+                DataType::U8 | DataType::U16 | DataType::I8 | DataType::I16,
+                true
+            )
     );
     if dimensions(accessor.dimensions()) != N || !usable {
         let reason = format!(
             "{name} is {:?} of {:?}{}; csgkit reads VEC{N} of floats or normalized integers",
             accessor.dimensions(),
             accessor.data_type(),
-            if accessor.normalized() { " (normalized)" } else { "" }
+            if accessor.normalized() {
+                " (normalized)"
+            } else {
+                ""
+            }
         );
         return Err(within(element(), structure(format, reason)));
     }
@@ -166,11 +188,15 @@ pub(super) fn read_f32s<const N: usize>(
             DataType::U8 => f32::from(layout.bytes::<1>(i, offset)[0]) / 255.0,
             DataType::U16 => f32::from(u16::from_le_bytes(layout.bytes(i, offset))) / 65535.0,
             DataType::I8 => (f32::from(layout.bytes::<1>(i, offset)[0] as i8) / 127.0).max(-1.0),
-            DataType::I16 => (f32::from(i16::from_le_bytes(layout.bytes(i, offset))) / 32767.0).max(-1.0),
+            DataType::I16 => {
+                (f32::from(i16::from_le_bytes(layout.bytes(i, offset))) / 32767.0).max(-1.0)
+            }
             DataType::U32 => 0.0,
         }
     };
-    Ok((0..layout.count).map(|i| std::array::from_fn(|k| value(i, k))).collect())
+    Ok((0..layout.count)
+        .map(|i| std::array::from_fn(|k| value(i, k)))
+        .collect())
 }
 
 /// The elements of an index accessor and where each lies.
@@ -194,7 +220,10 @@ pub(super) fn read_indices(
     format: Format,
 ) -> Result<Indices, ParseError> {
     let element = || format!("accessors[{}]", accessor.index());
-    let unsigned = matches!(accessor.data_type(), DataType::U8 | DataType::U16 | DataType::U32);
+    let unsigned = matches!(
+        accessor.data_type(),
+        DataType::U8 | DataType::U16 | DataType::U32
+    );
     if accessor.dimensions() != Dimensions::Scalar || !unsigned {
         let reason = format!(
             "indices are {:?} of {:?}; glTF indices are SCALAR unsigned integers",

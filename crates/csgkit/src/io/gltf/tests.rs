@@ -5,11 +5,21 @@ use crate::mesh::{Mesh, MeshParts};
 /// A tetrahedron, faces grouped by (material, colour) as the writer's primitives group them.
 fn tetrahedron(corner_attributes: bool) -> Mesh {
     Mesh::from_parts(MeshParts {
-        positions: vec![[0.1, 0.2, 0.3], [1.0, 0.0, 0.0], [0.0, 1.0, -5.5], [2.0, 1e17, 7.25]],
+        positions: vec![
+            [0.1, 0.2, 0.3],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, -5.5],
+            [2.0, 1e17, 7.25],
+        ],
         corners: vec![0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2],
         face_materials: Some(vec![0, 0, 1, 1]),
         materials: vec!["stone".into(), "glass".into()],
-        face_colors: Some(vec![[1, 2, 3, 4], [1, 2, 3, 4], [9, 9, 9, 255], [9, 9, 9, 255]]),
+        face_colors: Some(vec![
+            [1, 2, 3, 4],
+            [1, 2, 3, 4],
+            [9, 9, 9, 255],
+            [9, 9, 9, 255],
+        ]),
         corner_uvs: corner_attributes.then(|| (0..12).map(|c| [f64::from(c) / 8.0, 0.5]).collect()),
         corner_normals: corner_attributes.then(|| (0..12).map(|c| [0.0, 1.0, c as f32]).collect()),
         ..MeshParts::default()
@@ -100,12 +110,25 @@ fn node_transforms_primitives_and_external_buffers() {
     assert_eq!(part.name, "nodes[1]");
     let mesh = &part.mesh;
     // The child turns by 180° about z and moves up; the parent doubles x and moves by 10.
-    assert_eq!(mesh.positions(), &[[10.0, 0.0, 1.0], [8.0, 0.0, 1.0], [10.0, -1.0, 1.0]]);
+    assert_eq!(
+        mesh.positions(),
+        &[[10.0, 0.0, 1.0], [8.0, 0.0, 1.0], [10.0, -1.0, 1.0]]
+    );
     assert_eq!(mesh.corners(), &[0, 2, 1, 0, 1, 2]);
     assert_eq!(mesh.materials(), ["red", "default"]);
     assert_eq!(mesh.face_colors(), Some(&[[255, 0, 0, 128], [255; 4]][..]));
-    let embedded = document(&format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&data)), data.len(), 4);
-    assert_eq!(read(embedded.as_bytes(), &no_external_files).unwrap(), loaded);
+    let embedded = document(
+        &format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&data)
+        ),
+        data.len(),
+        4,
+    );
+    assert_eq!(
+        read(embedded.as_bytes(), &no_external_files).unwrap(),
+        loaded
+    );
 }
 
 fn message(data: &[u8]) -> String {
@@ -115,7 +138,10 @@ fn message(data: &[u8]) -> String {
 #[test]
 fn errors_name_the_element() {
     let data = buffer([0, 2, 3]);
-    let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&data));
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&data)
+    );
     assert_eq!(
         message(document(&uri, data.len(), 4).as_bytes()),
         "nodes[1]: meshes[0].primitives[0]: indices: byte offset 40: face 0 refers to vertex 3, \
@@ -140,15 +166,24 @@ fn errors_name_the_element() {
         message(bad_index.as_bytes()),
         "meshes[0].primitives[0].indices: malformed glTF file: index out of bounds"
     );
-    assert!(message(b"{\"asset\": {\"version\": \"2.0\"}, ").starts_with("malformed glTF file: invalid JSON: "));
+    assert!(
+        message(b"{\"asset\": {\"version\": \"2.0\"}, ")
+            .starts_with("malformed glTF file: invalid JSON: ")
+    );
     let mut glb = Vec::new();
     write::write(&tetrahedron(false), Format::Glb, &mut glb).unwrap();
     let cut = glb.len() - 1;
     assert_eq!(
         message(&glb[..cut]),
-        format!("truncated file: GLB file needs {} bytes, the file has {cut}", glb.len())
+        format!(
+            "truncated file: GLB file needs {} bytes, the file has {cut}",
+            glb.len()
+        )
     );
-    assert_eq!(message(&glb[..10]), "truncated file: GLB header needs 12 bytes, the file has 10");
+    assert_eq!(
+        message(&glb[..10]),
+        "truncated file: GLB header needs 12 bytes, the file has 10"
+    );
     let mut short = glb.clone();
     short[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
     assert!(message(&short).starts_with("truncated file: GLB JSON chunk needs "));

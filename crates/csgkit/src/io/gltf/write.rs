@@ -18,8 +18,8 @@ const TRIANGLES: u32 = 4;
 
 /// Appends `mesh` as a `.glb` or a `.gltf` (buffer embedded as base64) to `out`.
 pub(crate) fn write(mesh: &Mesh, format: Format, out: &mut Vec<u8>) -> Result<(), WriteError> {
-    let triangles = triangulate_faces(mesh)
-        .map_err(|error| WriteError::InvalidPolygon { format, error })?;
+    let triangles =
+        triangulate_faces(mesh).map_err(|error| WriteError::InvalidPolygon { format, error })?;
     if (mesh.positions().iter().flatten()).any(|&c| !(c as f32).is_finite()) {
         return Err(WriteError::TooLarge {
             format,
@@ -188,7 +188,15 @@ struct Document {
 impl Document {
     /// Appends `bytes` as a buffer view with `target`; returns the accessor index it gets
     /// with `count` elements of `kind`, extended by `extra` (min, max).
-    fn accessor(&mut self, bytes: &[u8], target: u32, component: u32, count: usize, kind: &str, extra: Value) -> usize {
+    fn accessor(
+        &mut self,
+        bytes: &[u8],
+        target: u32,
+        component: u32,
+        count: usize,
+        kind: &str,
+        extra: Value,
+    ) -> usize {
         let offset = self.bin.len();
         self.bin.extend_from_slice(bytes);
         self.views.push(json!({
@@ -219,14 +227,22 @@ impl Document {
                 max[k] = max[k].max(p[k]);
             }
         }
-        let bytes: Vec<u8> = positions.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+        let bytes: Vec<u8> = positions
+            .iter()
+            .flatten()
+            .flat_map(|c| c.to_le_bytes())
+            .collect();
         let count = positions.len();
         let mut attributes = serde_json::Map::new();
         let bounds = json!({"min": min, "max": max});
         let position = self.accessor(&bytes, ARRAY_BUFFER, FLOAT, count, "VEC3", bounds);
         attributes.insert("POSITION".into(), position.into());
         if let Some(normals) = &table.normals {
-            let bytes: Vec<u8> = normals.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+            let bytes: Vec<u8> = normals
+                .iter()
+                .flatten()
+                .flat_map(|c| c.to_le_bytes())
+                .collect();
             let normal = self.accessor(&bytes, ARRAY_BUFFER, FLOAT, count, "VEC3", json!({}));
             attributes.insert("NORMAL".into(), normal.into());
         }
@@ -243,7 +259,14 @@ impl Document {
             let (index_min, index_max) = (indices.iter().min(), indices.iter().max());
             let bounds = json!({"min": [index_min], "max": [index_max]});
             let n = indices.len();
-            let accessor = self.accessor(&bytes, ELEMENT_ARRAY_BUFFER, UNSIGNED_INT, n, "SCALAR", bounds);
+            let accessor = self.accessor(
+                &bytes,
+                ELEMENT_ARRAY_BUFFER,
+                UNSIGNED_INT,
+                n,
+                "SCALAR",
+                bounds,
+            );
             let mut primitive = json!({
                 "attributes": attributes.clone(), "indices": accessor, "mode": TRIANGLES
             });

@@ -53,21 +53,27 @@ pub(super) fn read(
     layout: &VertexLayout,
 ) -> Result<LoadedMesh, ParseError> {
     let mut body = Body { data, pos: start };
-    let counts = [body.int("binary OFF counts")?, body.int("binary OFF counts")?];
+    let counts = [
+        body.int("binary OFF counts")?,
+        body.int("binary OFF counts")?,
+    ];
     body.int("binary OFF counts")?;
-    let floats = 3 + 3 * usize::from(layout.normals) + 4 * usize::from(layout.colors)
+    let floats = 3
+        + 3 * usize::from(layout.normals)
+        + 4 * usize::from(layout.colors)
         + 2 * usize::from(layout.texture);
     let room = data.len() - body.pos;
-    let [nv, nf] = [("vertex", counts[0], 4 * floats), ("face", counts[1], 12)].map(
-        |(what, count, size)| match usize::try_from(count) {
-            Ok(n) if n.saturating_mul(size) <= room => Ok(n),
-            _ => Err(ParseError::CountTooLarge {
-                what,
-                count: i64::from(count).unsigned_abs(),
-                reason: "negative, or more than the rest of the file can hold",
-            }),
-        },
-    );
+    let [nv, nf] =
+        [("vertex", counts[0], 4 * floats), ("face", counts[1], 12)].map(|(what, count, size)| {
+            match usize::try_from(count) {
+                Ok(n) if n.saturating_mul(size) <= room => Ok(n),
+                _ => Err(ParseError::CountTooLarge {
+                    what,
+                    count: i64::from(count).unsigned_abs(),
+                    reason: "negative, or more than the rest of the file can hold",
+                }),
+            }
+        });
     let (nv, nf) = (nv?, nf?);
     let mut builder = MeshBuilder::with_capacity(nv, nf);
     for v in 0..nv {

@@ -105,7 +105,12 @@ fn binary_off(faces: &[&[i32]], color: &[f32]) -> Vec<u8> {
     for n in [4, faces.len() as i32, 0] {
         data.extend_from_slice(&n.to_be_bytes());
     }
-    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.25]] {
+    for p in [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.25],
+    ] {
         for c in p.into_iter().chain([1.0, 0.0, 0.0, 1.0]) {
             data.extend_from_slice(&c.to_be_bytes());
         }

@@ -72,7 +72,10 @@ fn round_trips_are_bit_exact_with_materials_and_colours() {
         let loaded = read(&written(&mesh)).unwrap();
         assert_eq!(loaded.unit, Some(Unit::Millimeter));
         assert_eq!(loaded.parts.len(), 1);
-        assert_eq!(loaded.parts[0].mesh, mesh, "materials {materials}, colours {colors}");
+        assert_eq!(
+            loaded.parts[0].mesh, mesh,
+            "materials {materials}, colours {colors}"
+        );
     }
     // A base material always has a colour: materials alone come back white.
     let back = read(&written(&tetrahedron(true, false))).unwrap();
@@ -84,7 +87,14 @@ fn round_trips_are_bit_exact_with_materials_and_colours() {
 fn polygons_are_written_as_their_exact_triangles() {
     // An L-shaped hexagon, which a fan from its first corner would leave.
     let l_shape = Mesh::from_polygons(
-        vec![[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [1.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 2.0, 0.0]],
+        vec![
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 2.0, 0.0],
+            [0.0, 2.0, 0.0],
+        ],
         &[[0u32, 1, 2, 3, 4, 5]],
     )
     .unwrap();
@@ -101,7 +111,8 @@ fn items_components_transforms_and_units() {
         triangle_object(1, "<triangle v1=\"0\" v2=\"1\" v3=\"2\"/>"),
         triangle_object(2, "<triangle v1=\"0\" v2=\"1\" v3=\"2\"/>"),
     );
-    let build = "<item objectid=\"1\"/>\n<item objectid=\"3\" transform=\"-1 0 0 0 1 0 0 0 1 0 0 5\"/>\n";
+    let build =
+        "<item objectid=\"1\"/>\n<item objectid=\"3\" transform=\"-1 0 0 0 1 0 0 0 1 0 0 5\"/>\n";
     let loaded = read(&archive(&model("inch", &resources, build), true)).unwrap();
     assert_eq!(loaded.unit, Some(Unit::Inch));
     assert_eq!(loaded.raw_vertex_count, 6);
@@ -127,7 +138,10 @@ fn properties_follow_pid_and_p1_with_object_defaults() {
          <triangle v1=\"0\" v2=\"2\" v3=\"1\" pid=\"6\" p1=\"0\"/>\n<triangle v1=\"1\" v2=\"0\" v3=\"2\"/>")
             .replace("type=\"model\"", "pid=\"5\" pindex=\"0\""),
     );
-    let loaded = read(&archive(&model("millimeter", &resources, "<item objectid=\"1\"/>"), true));
+    let loaded = read(&archive(
+        &model("millimeter", &resources, "<item objectid=\"1\"/>"),
+        true,
+    ));
     let mesh = loaded.unwrap().parts.remove(0).mesh;
     assert_eq!(mesh.materials(), ["blue", "default", "red"]);
     assert_eq!(mesh.face_materials(), Some(&[0, 1, 2][..]));
@@ -137,9 +151,13 @@ fn properties_follow_pid_and_p1_with_object_defaults() {
 
 #[test]
 fn errors_name_the_part_and_element() {
-    assert!(message(b"PK\x03\x04 not really a zip").starts_with("malformed 3MF file: not a zip archive: "));
+    assert!(
+        message(b"PK\x03\x04 not really a zip")
+            .starts_with("malformed 3MF file: not a zip archive: ")
+    );
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
-    zip.start_file("readme.txt", zip::write::SimpleFileOptions::default()).unwrap();
+    zip.start_file("readme.txt", zip::write::SimpleFileOptions::default())
+        .unwrap();
     zip.write_all(b"hello").unwrap();
     let not_3mf = zip.finish().unwrap().into_inner();
     assert_eq!(
@@ -148,7 +166,8 @@ fn errors_name_the_part_and_element() {
          relationship in _rels/.rels and no 3D/3dmodel.model)"
     );
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
-    zip.start_file("_rels/.rels", zip::write::SimpleFileOptions::default()).unwrap();
+    zip.start_file("_rels/.rels", zip::write::SimpleFileOptions::default())
+        .unwrap();
     zip.write_all(RELATIONSHIPS.as_bytes()).unwrap();
     let missing = zip.finish().unwrap().into_inner();
     assert_eq!(
@@ -158,7 +177,10 @@ fn errors_name_the_part_and_element() {
     );
     let with = |triangle: &str| {
         let resources = triangle_object(1, triangle);
-        archive(&model("millimeter", &resources, "<item objectid=\"1\"/>"), true)
+        archive(
+            &model("millimeter", &resources, "<item objectid=\"1\"/>"),
+            true,
+        )
     };
     assert_eq!(
         message(&with("<triangle v1=\"0\" v2=\"1\" v3=\"3\"/>")),
@@ -169,12 +191,18 @@ fn errors_name_the_part_and_element() {
         "3D/3dmodel.model: object 1, triangle 0: line 12: malformed 3MF file: missing attribute v3"
     );
     assert_eq!(
-        message(&with("<triangle v1=\"0\" v2=\"1\" v3=\"2\" pid=\"9\" p1=\"0\"/>")),
+        message(&with(
+            "<triangle v1=\"0\" v2=\"1\" v3=\"2\" pid=\"9\" p1=\"0\"/>"
+        )),
         "3D/3dmodel.model: object 1, triangle 0: line 12: malformed 3MF file: pid 9 names no \
          property group defined before it"
     );
     let bad_number = archive(
-        &model("millimeter", &triangle_object(1, "").replace("x=\"1\"", "x=\"1.0x\""), ""),
+        &model(
+            "millimeter",
+            &triangle_object(1, "").replace("x=\"1\"", "x=\"1.0x\""),
+            "",
+        ),
         true,
     );
     assert_eq!(
@@ -182,8 +210,7 @@ fn errors_name_the_part_and_element() {
         "3D/3dmodel.model: object 1, vertex 1, attribute x: line 8: malformed number \"1.0x\""
     );
     let cut = model("millimeter", &triangle_object(1, ""), "");
-    assert!(message(&archive(&cut[..cut.len() - 30], true))
-        .starts_with("3D/3dmodel.model: line "));
+    assert!(message(&archive(&cut[..cut.len() - 30], true)).starts_with("3D/3dmodel.model: line "));
     let unknown_item = archive(&model("millimeter", "", "<item objectid=\"4\"/>"), true);
     assert_eq!(
         message(&unknown_item),
