@@ -509,20 +509,15 @@ impl Model {
         attrs: &Attributes<'_>,
         object: Option<&mut Open>,
     ) -> Result<(), ParseError> {
-        let Some(open) = object else {
-            return Err(p.fail("the resources", "a vertex outside any object"));
-        };
-        let Some(builder) = open.builder.as_mut() else {
-            return Err(p.fail(format!("object {}", open.id), "a vertex outside its mesh"));
-        };
+        let (id, builder) = open_mesh(p, object, "vertex")?;
         let v = builder.vertex_count();
-        let element = || format!("object {}, vertex {v}", open.id);
+        let element = || format!("object {id}, vertex {v}");
         let position = [
             p.number(attrs, "x", &element)?,
             p.number(attrs, "y", &element)?,
             p.number(attrs, "z", &element)?,
         ];
-        check_finite(position, v, p.at()).map_err(|e| within(format!("object {}", open.id), e))?;
+        check_finite(position, v, p.at()).map_err(|e| within(format!("object {id}"), e))?;
         builder.push_vertex(position, None);
         self.vertices += 1;
         Ok(())
@@ -535,13 +530,9 @@ impl Model {
         attrs: &Attributes<'_>,
         object: Option<&mut Open>,
     ) -> Result<(), ParseError> {
-        let Some(open) = object else {
-            return Err(p.fail("the resources", "a triangle outside any object"));
-        };
-        let id = open.id;
-        let Some(builder) = open.builder.as_mut() else {
-            return Err(p.fail(format!("object {id}"), "a triangle outside its mesh"));
-        };
+        // The object's default property, for triangles that name none.
+        let (object_pid, pindex) = (object.as_deref()).map_or((None, None), |o| (o.pid, o.pindex));
+        let (id, builder) = open_mesh(p, object, "triangle")?;
         let face = builder.face_count();
         let element = || format!("object {id}, triangle {face}");
         let count = builder.vertex_count();
@@ -563,10 +554,10 @@ impl Model {
         let p1 = p.index(attrs, "p1", &element)?;
         let property = match (pid, p1) {
             (Some(pid), Some(index)) => Some((pid, index)),
-            (Some(pid), None) if Some(pid) == open.pid => open.pindex.map(|index| (pid, index)),
+            (Some(pid), None) if Some(pid) == object_pid => pindex.map(|index| (pid, index)),
             (Some(_), None) => return Err(p.fail(element(), "pid without p1")),
-            (None, Some(index)) => open.pid.map(|pid| (pid, index)),
-            (None, None) => open.pid.zip(open.pindex),
+            (None, Some(index)) => object_pid.map(|pid| (pid, index)),
+            (None, None) => object_pid.zip(pindex),
         };
         let mut attributes = FaceAttributes::default();
         if let Some((pid, index)) = property {
@@ -628,6 +619,22 @@ impl Model {
                 .map_err(|e| within(format!("object {id}, component object {child}"), e))?;
         }
         Ok(())
+    }
+}
+
+/// The id and mesh of the open object, for one of its `what` elements (vertex, triangle).
+fn open_mesh<'o>(
+    p: &Parser<'_>,
+    object: Option<&'o mut Open>,
+    what: &str,
+) -> Result<(u32, &'o mut MeshBuilder), ParseError> {
+    let Some(open) = object else {
+        return Err(p.fail("the resources", format!("a {what} outside any object")));
+    };
+    let id = open.id;
+    match open.builder.as_mut() {
+        Some(builder) => Ok((id, builder)),
+        None => Err(p.fail(format!("object {id}"), format!("a {what} outside its mesh"))),
     }
 }
 
