@@ -53,7 +53,7 @@ def cube_3mf(path, low, high, material, color):
 
 def base_color(material):
     """The Base Color of the material's Principled BSDF, as RGBA floats."""
-    if material.use_nodes:
+    if material.node_tree is not None:
         for node in material.node_tree.nodes:
             if node.type == "BSDF_PRINCIPLED":
                 return tuple(round(c, 4) for c in node.inputs["Base Color"].default_value)
