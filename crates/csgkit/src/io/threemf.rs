@@ -52,7 +52,7 @@ use quick_xml::events::{BytesStart, Event};
 use rustc_hash::FxHashMap;
 
 use super::builder::{FaceAttributes, MeshBuilder};
-use super::error::{Location, ParseError, WriteError, malformed, within};
+use super::error::{Location, ParseError, WriteError, malformed, malformed_number, within};
 use super::text::{check_finite, parse_f64, parse_i64, trim};
 use super::{Encoding, Format, LoadedMeshes, Part, Unit};
 use crate::mesh::{
@@ -282,7 +282,8 @@ struct Parser<'x> {
 }
 
 impl<'x> Parser<'x> {
-    /// The line of the element just read.
+    /// The line of the element just read: counted from the start of the part, so only when
+    /// an error needs it.
     fn at(&self) -> Location {
         line_at(self.xml, self.reader.buffer_position() as usize)
     }
@@ -302,7 +303,11 @@ impl<'x> Parser<'x> {
         let raw = attrs
             .raw(name.as_bytes())
             .ok_or_else(|| self.fail(element(), format!("missing attribute {name}")))?;
-        parse_f64(raw, self.at()).map_err(|e| within(format!("{}, attribute {name}", element()), e))
+        // The line is counted only for an error (`at` scans the part from its start).
+        parse_f64(raw, Location::Line(0)).map_err(|_| {
+            let error = malformed_number(raw, self.at());
+            within(format!("{}, attribute {name}", element()), error)
+        })
     }
 
     /// The attribute `name` of `element` as a `u32`, if present.
@@ -315,8 +320,10 @@ impl<'x> Parser<'x> {
         let Some(raw) = attrs.raw(name.as_bytes()) else {
             return Ok(None);
         };
-        let value = parse_i64(raw, self.at())
-            .map_err(|e| within(format!("{}, attribute {name}", element()), e))?;
+        let value = parse_i64(raw, Location::Line(0)).map_err(|_| {
+            let error = malformed_number(raw, self.at());
+            within(format!("{}, attribute {name}", element()), error)
+        })?;
         u32::try_from(value).map(Some).map_err(|_| {
             self.fail(
                 element(),
@@ -348,7 +355,8 @@ impl<'x> Parser<'x> {
         let mut values = [0.0; 12];
         let mut count = 0;
         for token in super::text::Tokens::new(raw) {
-            let value = parse_f64(token, self.at())
+            let value = parse_f64(token, Location::Line(0))
+                .map_err(|_| malformed_number(token, self.at()))
                 .map_err(|e| within(format!("{}, attribute transform", element()), e))?;
             if count < 12 {
                 values[count] = value;
@@ -517,7 +525,9 @@ impl Model {
             p.number(attrs, "y", &element)?,
             p.number(attrs, "z", &element)?,
         ];
-        check_finite(position, v, p.at()).map_err(|e| within(format!("object {id}"), e))?;
+        if position.iter().any(|c| !c.is_finite()) {
+            check_finite(position, v, p.at()).map_err(|e| within(format!("object {id}"), e))?;
+        }
         builder.push_vertex(position, None);
         self.vertices += 1;
         Ok(())
@@ -785,6 +795,8 @@ pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) -> Result<(), WriteError> {
     let mut zip = zip::ZipWriter::new(Cursor::new(out));
     let options = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated)
+        // Level 1 deflates about as small as the default on XML of numbers, several times faster.
+        .compression_level(Some(1))
         .large_file(model.len() >= u32::MAX as usize);
     let files: [(&str, &[u8]); 3] = [
         ("[Content_Types].xml", CONTENT_TYPES.as_bytes()),
