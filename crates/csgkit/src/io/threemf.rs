@@ -795,7 +795,8 @@ pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) -> Result<(), WriteError> {
     let mut zip = zip::ZipWriter::new(Cursor::new(out));
     let options = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated)
-        // Level 1 deflates about as small as the default on XML of numbers, several times faster.
+        // Level 1: on the 1.1 M-triangle bunny 2.8 times faster than the default level (1.34 s
+        // against 3.76 s), for a file 1.7 times larger (37 MB against 22 MB).
         .compression_level(Some(1))
         .large_file(model.len() >= u32::MAX as usize);
     let files: [(&str, &[u8]); 3] = [
