@@ -11,7 +11,7 @@
 //! # Files of several parts
 //! A 3MF file places objects as build items, a glTF file places meshes at the nodes of its
 //! scene. [`read_meshes`] gives each such part as its own mesh ([`LoadedMeshes`]), in its
-//! place; [`read_mesh`] gives them merged into one ([`mesh::concatenate`]). The other formats
+//! place; [`read_mesh`] gives them merged into one ([`concatenate`]). The other formats
 //! hold one part.
 //!
 //! ```
