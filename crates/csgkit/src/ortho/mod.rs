@@ -67,7 +67,7 @@ pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
 pub use random::random_grid_boxes;
 pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
-pub use vox::{VoxBoxes, VoxOptions, read_vox};
+pub use vox::{VoxBoxes, VoxOptions, read_vox, with_palette_colors};
 
 use grid::RankedBoxes;
 use rayon::prelude::*;
