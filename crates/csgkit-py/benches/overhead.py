@@ -10,6 +10,12 @@ arrays.
 Needs csgkit (``pip install ./crates/csgkit-py``) and manifold3d in the running
 interpreter, and the peers harness folder, whose ``cases.py`` generates the spheres. Every
 figure is the median of ``--repeat`` runs; the table goes to stdout as Markdown.
+
+The overhead of a csgkit call is its wall time minus the seconds of the engine's stages
+inside it (``Mesh.stage_seconds``): the conversion of the arrays, the GIL's release and the
+result's hand-over to NumPy. The CLI column is the same union's stage seconds in a fresh
+process (``--stats``: ``validate_seconds + op_seconds``). For manifold3d the overhead is its
+wall time minus the union alone on Manifolds built beforehand (``a + b`` and ``to_mesh64``).
 """
 
 from __future__ import annotations
@@ -90,22 +96,27 @@ def main():
     csgkit.save(b, folder / "b.obj")
 
     convert_in, _ = median_seconds(lambda: (csgkit.Mesh(va, fa), csgkit.Mesh(vb, fb)), args.repeat)
-    rows = []
+    print(f"sphere_sphere_union_100k: {len(fa)} + {len(fb)} triangles, median of {args.repeat} runs\n")
+    print("| call from Python | Python call (s) | engine inside the call (s) | overhead (s) "
+          "| same union by the CLI (s) | output triangles |")
+    print("|---|---|---|---|---|---|")
     for self_check in (True, False):
-        python, result = median_seconds(lambda: csgkit.union(a, b, self_check=self_check), args.repeat)
+        runs = []
+        for _ in range(args.repeat):
+            start = time.perf_counter()
+            result = csgkit.union(a, b, self_check=self_check)
+            runs.append((time.perf_counter() - start, sum(result.stage_seconds.values())))
+        call = statistics.median(t for t, _ in runs)
+        engine = statistics.median(e for _, e in runs)
+        overhead = statistics.median(t - e for t, e in runs)
         validate, op, faces = command_line(args.csgkit, folder / "a.obj", folder / "b.obj", args.repeat,
                                            self_check)
         assert result.face_count == faces, (result.face_count, faces)
-        cli = validate + op
-        rows.append((f"csgkit.union, self_check={self_check}", python, cli, python - cli, faces))
+        print(f"| csgkit.union, self_check={self_check} | {call:.3f} | {engine:.3f} | {overhead:+.3f} "
+              f"| {validate + op:.3f} | {faces} |")
     whole, op, faces = manifold(a, b, args.repeat)
-    rows.append((f"manifold3d {version('manifold3d')} (Mesh64 in, to_mesh64 out)", whole, op, whole - op, faces))
-
-    print(f"sphere_sphere_union_100k: {len(fa)} + {len(fb)} triangles, median of {args.repeat} runs\n")
-    print("| call from Python | Python call (s) | engine alone (s) | overhead (s) | output triangles |")
-    print("|---|---|---|---|---|")
-    for name, total, engine, overhead, faces in rows:
-        print(f"| {name} | {total:.3f} | {engine:.3f} | {overhead:+.3f} | {faces} |")
+    print(f"| manifold3d {version('manifold3d')}: Mesh64 in, to_mesh64 out | {whole:.3f} | {op:.3f} "
+          f"| {whole - op:+.3f} | | {faces} |")
     print(f"\ncsgkit.Mesh from the two arrays (part of the overhead): {convert_in * 1e3:.1f} ms")
 
 

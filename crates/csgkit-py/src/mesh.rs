@@ -13,13 +13,13 @@
 //! - `faces`: an integer array of shape (m, k), k ≥ 3 (triangles when k = 3), or a sequence
 //!   of polygons, each a sequence of at least three vertex indices, every index in 0..n.
 
-use csgkit::{Mesh, MeshParts, Provenance};
+use csgkit::{Mesh, MeshParts, Output, Provenance, Stage};
 use numpy::{
     AllowTypeChange, Element, PyArray1, PyArray2, PyArrayDescrMethods, PyArrayLikeDyn,
     PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
-use pyo3::types::PyList;
+use pyo3::types::{PyDict, PyList};
 
 use crate::errors;
 
@@ -51,6 +51,8 @@ pub struct PyMesh {
     face_starts: Option<Vec<u32>>,
     /// Every other buffer of the mesh (positions and corners left empty).
     attributes: MeshParts,
+    /// The seconds of every stage of the operation that made the mesh, if one did.
+    stage_seconds: Option<Vec<(Stage, f64)>>,
 }
 
 #[pymethods]
@@ -196,6 +198,22 @@ impl PyMesh {
         rows_array(py, &rows).map(Some)
     }
 
+    /// The seconds of each stage of the operation that made this mesh ({"ingest": ...,
+    /// "intersect": ..., ...}, in the order they ran), or None for a mesh no operation made.
+    #[getter]
+    fn stage_seconds<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(stages) = &self.stage_seconds else {
+            return Ok(None);
+        };
+        let seconds = PyDict::new(py);
+        for (stage, time) in stages {
+            let name = stage.to_string();
+            let before: f64 = seconds.get_item(&name)?.map_or(Ok(0.0), |t| t.extract())?;
+            seconds.set_item(name, before + time)?;
+        }
+        Ok(Some(seconds))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         let kind = match self.face_starts {
             None => "triangles",
@@ -212,6 +230,15 @@ impl PyMesh {
 impl PyMesh {
     /// Takes over `mesh`'s position and corner buffers as NumPy arrays, without a copy.
     pub fn from_mesh(py: Python<'_>, mesh: Mesh) -> PyResult<Self> {
+        PyMesh::computed(py, mesh, None)
+    }
+
+    /// [`PyMesh::from_mesh`] for the result of an operation, with its stage seconds.
+    pub fn computed(
+        py: Python<'_>,
+        mesh: Mesh,
+        stage_seconds: Option<Vec<(Stage, f64)>>,
+    ) -> PyResult<Self> {
         let mut attributes = mesh.into_parts();
         let positions = std::mem::take(&mut attributes.positions);
         let count = positions.len();
@@ -226,7 +253,14 @@ impl PyMesh {
             corners: corners.unbind(),
             face_starts: attributes.face_starts.take(),
             attributes,
+            stage_seconds,
         })
+    }
+
+    /// An engine's output, with its stage seconds.
+    pub fn from_output(py: Python<'_>, output: Output) -> PyResult<Self> {
+        let stage_seconds = output.stats.stage_seconds().to_vec();
+        PyMesh::computed(py, output.mesh, Some(stage_seconds))
     }
 
     /// The library's mesh: the arrays copied back, the attributes cloned.

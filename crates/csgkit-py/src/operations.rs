@@ -8,7 +8,9 @@ use std::path::PathBuf;
 
 use csgkit::exact::{BooleanOptions, WindingRule};
 use csgkit::mesh::FaceMode;
-use csgkit::ortho::{MeshOptions, VoxOptions, box_union_timed, parse_boxes, read_vox};
+use csgkit::ortho::{
+    MeshOptions, VoxOptions, box_union_mesh, parse_boxes, read_vox, with_palette_colors,
+};
 use csgkit::{DiscreteEngine, DiscreteSurface, Engine, ExactEngine, Mesh, Operation};
 use numpy::{AllowTypeChange, PyArrayLikeDyn};
 use pyo3::exceptions::PyTypeError;
@@ -118,13 +120,11 @@ fn exact(
     let engine = ExactEngine {
         options: args.options,
     };
-    let mesh = detached(py, args.progress.as_ref(), |progress| {
+    let output = detached(py, args.progress.as_ref(), |progress| {
         let operands: Vec<&Mesh> = meshes.iter().collect();
-        engine
-            .apply(op, &operands, progress)
-            .map(|output| output.mesh)
+        engine.apply(op, &operands, progress)
     })?;
-    PyMesh::from_mesh(py, mesh)
+    PyMesh::from_output(py, output)
 }
 
 /// The exact boolean `operation` ('union', 'intersection', 'difference' or 'xor') of
@@ -312,15 +312,16 @@ pub fn boxes(
         triangles: triangles || manifold,
         manifold,
     };
-    let mesh = detached(py, progress, |progress| {
-        let (brep, _) = box_union_timed(&input.boxes, input.materials.as_deref(), progress)?;
-        let mesh = brep.to_mesh(options)?.mesh;
-        Ok(match &input.palette {
-            Some(palette) => csgkit::ortho::with_palette_colors(mesh, palette),
-            None => mesh,
-        })
+    let (mesh, stage_seconds) = detached(py, progress, |progress| {
+        let materials = input.materials.as_deref();
+        let (out, stage_seconds) = box_union_mesh(&input.boxes, materials, options, progress)?;
+        let mesh = match &input.palette {
+            Some(palette) => with_palette_colors(out.mesh, palette),
+            None => out.mesh,
+        };
+        Ok((mesh, stage_seconds))
     })?;
-    PyMesh::from_mesh(py, mesh)
+    PyMesh::computed(py, mesh, Some(stage_seconds))
 }
 
 /// The voxels of a closed mesh whose centres are inside it, on a grid of cell size `cell`
@@ -357,10 +358,8 @@ pub fn voxelize(
         surface,
         ..DiscreteEngine::with_cell(cell)
     };
-    let result = detached(py, progress, |progress| {
-        engine
-            .apply(Operation::Union, &[&mesh], progress)
-            .map(|output| output.mesh)
+    let output = detached(py, progress, |progress| {
+        engine.apply(Operation::Union, &[&mesh], progress)
     })?;
-    PyMesh::from_mesh(py, result)
+    PyMesh::from_output(py, output)
 }

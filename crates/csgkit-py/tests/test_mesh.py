@@ -112,3 +112,19 @@ def test_voxel_colours_become_materials_and_face_colours(shared_data):
     assert knight.face_colors.shape == (knight.face_count, 4)
     assert knight.face_materials.shape == (knight.face_count,)
     assert len(knight.material_names) > 1
+
+
+def test_results_time_the_stages_their_progress_reported():
+    a, b = cube(), cube((0.5, 0.5, 0.5), (2, 2, 2))
+    assert csgkit.Mesh(*a).stage_seconds is None
+    for run in (
+        lambda progress: csgkit.union(a, b, progress=progress),
+        lambda progress: csgkit.boxes([[0, 0, 0, 2, 2, 2], [1, 1, 1, 3, 3, 3]], progress=progress),
+        lambda progress: csgkit.voxelize(a, 0.25, progress=progress),
+    ):
+        reported = []
+        result = run(lambda stage, done, total: reported.append(stage))
+        seconds = result.stage_seconds
+        assert list(seconds) == list(dict.fromkeys(reported))
+        assert all(t >= 0 for t in seconds.values())
+    assert list(csgkit.union(a, b).stage_seconds)[:2] == ["ingest", "validate"]

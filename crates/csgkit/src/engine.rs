@@ -8,7 +8,7 @@ use crate::discrete::{DiscreteStats, DiscretizeOptions, Grid, combine, labelled_
 use crate::error::Error;
 use crate::exact::{BooleanOptions, BooleanStats, Expression, boolean_expression};
 use crate::mesh::Mesh;
-use crate::ortho::{MeshOptions, bounded_box, box_union_timed};
+use crate::ortho::{MeshOptions, bounded_box, box_union_mesh};
 use crate::progress::{Progress, Stage, StageClock};
 
 mod sealed {
@@ -199,11 +199,7 @@ impl Engine for OrthoEngine {
             })?;
             boxes.push(solid);
         }
-        let (brep, mut stage_seconds) = box_union_timed(&boxes, None, progress)?;
-        let mut clock = StageClock::new(progress);
-        let out = brep.to_mesh(self.mesh)?;
-        clock.end(Stage::Triangulate)?;
-        stage_seconds.extend(clock.into_seconds());
+        let (out, stage_seconds) = box_union_mesh(&boxes, None, self.mesh, progress)?;
         Ok(Output {
             mesh: out.mesh,
             stats: Stats::Ortho(OrthoStats {

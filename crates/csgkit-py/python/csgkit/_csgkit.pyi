@@ -64,6 +64,9 @@ class Mesh:
     @property
     def provenance(self) -> Optional[npt.NDArray[np.uint32]]:
         """(m, 2): per face, [operand, face of that operand], or None."""
+    @property
+    def stage_seconds(self) -> Optional[dict[str, float]]:
+        """Seconds of each stage of the operation that made the mesh, or None."""
 
 def boolean(
     operation: Operation,

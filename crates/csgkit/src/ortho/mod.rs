@@ -262,6 +262,26 @@ pub fn box_union_timed(
     Ok((brep, clock.into_seconds()))
 }
 
+/// [`box_union_timed`], then the B-rep as a mesh ([`BRep::to_mesh`] with `options`), timed
+/// and reported as [`Stage::Triangulate`]: the orthogonal engine from boxes to a mesh, as
+/// the engine facade's `OrthoEngine` and the Python package's `boxes` run it.
+///
+/// # Errors
+/// As [`box_union_timed`] and [`BRep::to_mesh`].
+pub fn box_union_mesh(
+    boxes: &[[f64; 6]],
+    materials: Option<&[u32]>,
+    options: MeshOptions,
+    progress: &Progress,
+) -> Result<(MeshOutput, Vec<(Stage, f64)>), OrthoError> {
+    let (brep, mut stage_seconds) = box_union_timed(boxes, materials, progress)?;
+    let mut clock = StageClock::new(progress);
+    let out = brep.to_mesh(options)?;
+    clock.end(Stage::Triangulate)?;
+    stage_seconds.extend(clock.into_seconds());
+    Ok((out, stage_seconds))
+}
+
 /// Computes the B-rep of the union of `boxes`, box `i` being made of material
 /// `materials[i]`: each face takes the material of the box behind it (the smallest id where
 /// boxes of different materials overlap), faces are maximal per material, and interfaces
