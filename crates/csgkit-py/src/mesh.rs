@@ -19,7 +19,7 @@ use numpy::{
     PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 use crate::errors;
 
@@ -437,16 +437,11 @@ fn vertex_index(face: usize, index: i64, vertex_count: usize) -> PyResult<u32> {
 
 /// The list of operands `meshes`, each converted; an error names the operand.
 pub fn extract_operands(meshes: &Bound<'_, PyAny>) -> PyResult<Vec<Mesh>> {
-    let list = PyList::new(
-        meshes.py(),
-        meshes.try_iter()?.collect::<PyResult<Vec<_>>>()?,
-    )?;
-    (list.iter().enumerate())
-        .map(|(k, operand)| {
-            extract_mesh(&operand).map_err(|error| {
-                let message = error.value(operand.py()).to_string();
-                errors::input(format!("operand {k}: {message}"))
-            })
-        })
-        .collect()
+    let mut operands = Vec::new();
+    for (k, operand) in meshes.try_iter()?.enumerate() {
+        let mesh = extract_mesh(&operand?)
+            .map_err(|error| errors::with_prefix(error, &format!("operand {k}")))?;
+        operands.push(mesh);
+    }
+    Ok(operands)
 }

@@ -67,6 +67,17 @@ def test_something_that_is_no_mesh():
     with pytest.raises(TypeError):
         csgkit.union(cube(), cube(), faces_mode="polygons")
 
+    class Broken:
+        faces = cube()[1]
+
+        @property
+        def vertices(self):
+            raise RuntimeError("no vertices today")
+
+    # An exception that is not about the input passes through as it is.
+    with pytest.raises(RuntimeError, match="^no vertices today$"):
+        csgkit.union(cube(), Broken())
+
 
 def test_an_open_mesh_is_refused_naming_the_operand():
     v, f = cube()

@@ -36,20 +36,29 @@ def test_docstring_examples_run(module):
 
 
 def stub_definitions():
+    """The stub's functions, as {name: arguments}: `def`s, and names annotated with a
+    Protocol class, whose `__call__` gives the arguments; and its public classes."""
     tree = ast.parse(STUB.read_text())
-    functions = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef)}
     classes = {n.name: n for n in tree.body if isinstance(n, ast.ClassDef)}
-    return functions, classes
+    functions = {n.name: n.args for n in tree.body if isinstance(n, ast.FunctionDef)}
+    for node in tree.body:
+        if isinstance(node, ast.AnnAssign) and isinstance(node.annotation, ast.Name):
+            protocol = classes.get(node.annotation.id)
+            if protocol is not None:
+                call = next(n for n in protocol.body if isinstance(n, ast.FunctionDef) and n.name == "__call__")
+                functions[node.target.id] = call.args
+    public = {name: c for name, c in classes.items() if not name.startswith("_")}
+    return functions, public
 
 
 def test_the_stub_names_every_function_and_its_parameters():
-    functions, classes = stub_definitions()
+    functions, _ = stub_definitions()
     runtime = {n for n, o in vars(native).items() if inspect.isbuiltin(o) or inspect.isfunction(o)}
     assert set(functions) == runtime
-    for name, node in functions.items():
-        stubbed = [a.arg for a in node.args.posonlyargs + node.args.args + node.args.kwonlyargs]
-        if node.args.vararg:
-            stubbed.insert(0, node.args.vararg.arg)
+    for name, args in functions.items():
+        stubbed = [a.arg for a in args.posonlyargs + args.args + args.kwonlyargs if a.arg != "self"]
+        if args.vararg:
+            stubbed.insert(0, args.vararg.arg)
         actual = list(inspect.signature(getattr(native, name)).parameters)
         assert stubbed == actual, name
 

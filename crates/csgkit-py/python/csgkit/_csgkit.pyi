@@ -1,7 +1,7 @@
 """Type stubs of the native module (crates/csgkit-py/src); csgkit re-exports all of it."""
 
 import os
-from typing import Any, Callable, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Literal, Optional, Protocol, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -80,46 +80,26 @@ def boolean(
     simplify: Optional[float] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Mesh: ...
-def union(
-    *meshes: MeshLike,
-    winding: Winding = "nonzero",
-    faces: FaceMode = "triangles",
-    self_check: bool = True,
-    manifold: bool = False,
-    merge_coplanar: bool = False,
-    simplify: Optional[float] = None,
-    progress: Optional[ProgressCallback] = None,
-) -> Mesh: ...
-def intersection(
-    *meshes: MeshLike,
-    winding: Winding = "nonzero",
-    faces: FaceMode = "triangles",
-    self_check: bool = True,
-    manifold: bool = False,
-    merge_coplanar: bool = False,
-    simplify: Optional[float] = None,
-    progress: Optional[ProgressCallback] = None,
-) -> Mesh: ...
-def difference(
-    *meshes: MeshLike,
-    winding: Winding = "nonzero",
-    faces: FaceMode = "triangles",
-    self_check: bool = True,
-    manifold: bool = False,
-    merge_coplanar: bool = False,
-    simplify: Optional[float] = None,
-    progress: Optional[ProgressCallback] = None,
-) -> Mesh: ...
-def xor(
-    *meshes: MeshLike,
-    winding: Winding = "nonzero",
-    faces: FaceMode = "triangles",
-    self_check: bool = True,
-    manifold: bool = False,
-    merge_coplanar: bool = False,
-    simplify: Optional[float] = None,
-    progress: Optional[ProgressCallback] = None,
-) -> Mesh: ...
+class _Operation(Protocol):
+    """union, intersection, difference and xor: boolean() of one operation."""
+
+    def __call__(
+        self,
+        *meshes: MeshLike,
+        winding: Winding = "nonzero",
+        faces: FaceMode = "triangles",
+        self_check: bool = True,
+        manifold: bool = False,
+        merge_coplanar: bool = False,
+        simplify: Optional[float] = None,
+        progress: Optional[ProgressCallback] = None,
+    ) -> Mesh: ...
+
+union: _Operation
+intersection: _Operation
+difference: _Operation
+xor: _Operation
+
 def boxes(
     boxes: Union[ArrayLike, PathLike],
     *,

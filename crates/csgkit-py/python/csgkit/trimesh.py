@@ -27,12 +27,15 @@ Why choose it over trimesh's default engine (manifold3d):
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 import trimesh
 
 from . import _csgkit
+
+if TYPE_CHECKING:
+    from ._csgkit import Operation
 
 ENGINE = "csgkit"
 
@@ -48,7 +51,7 @@ def install() -> None:
 
 def boolean(
     meshes: Sequence[trimesh.Trimesh],
-    operation: str,
+    operation: Operation,
     check_volume: bool = True,
     **options: Any,
 ) -> trimesh.Trimesh:
