@@ -33,6 +33,8 @@ mod io_fuzz;
 // Non-convex, collinear and self-overlapping polygons: the triangulator, the self-intersection
 // check and exact booleans of polygon solids.
 mod polygons;
+// Regressions named after the issue whose work found them.
+mod regression;
 // Every shared data mesh analysed: topology and measures agree with the manifest.
 mod real_data;
 // The orthogonal engine: design vectors E1-E10 and R1-R6.

@@ -269,6 +269,7 @@ fn stats_json(
         "rounded_vertices": s.rounded_vertices,
         "snapped_vertices": s.snapped_vertices,
         "dissolved_slivers": s.dissolved_slivers,
+        "removed_sheets": s.removed_sheets,
         "max_snap_displacement": s.max_snap_displacement,
         "certify_rounds": s.certify_rounds,
         "output_vertices": result.mesh.vertex_count(),

@@ -94,6 +94,9 @@ pub struct BooleanStats {
     /// Slivers thinner than the f64 grid that certification removed (a short side collapsed
     /// or a needle flipped away; see the certify stage).
     pub dissolved_slivers: usize,
+    /// Pairs of opposite faces over the same three vertices that certification removed (a
+    /// sliver between two surfaces that rounded flat into a two-sided sheet).
+    pub removed_sheets: usize,
     /// The largest distance certification moved the surface (a re-rounded or snapped vertex,
     /// a collapsed side, a flipped needle), relative to the diagonal of the result's bounding
     /// box.
@@ -273,6 +276,7 @@ pub fn boolean_expression(
     stats.max_snap_displacement = certificate.max_snap_displacement;
     stats.certify_rounds = certificate.rounds;
     stats.dissolved_slivers = certificate.dissolved_slivers;
+    stats.removed_sheets = certificate.removed_sheets;
     stats.output_triangles = mesh.face_count();
     clock.record(Stage::Certify);
     let mut mesh = crate::mesh::merge_faces(mesh, options.faces, operands);

@@ -15,6 +15,9 @@
 //!   balanced edges, as in two cubes sharing an edge, are solids too), counting the dropped
 //!   degenerate triangles (a flat triangle is a T-junction between its neighbours, which the
 //!   arrangement resolves, not a hole), with a non-negative volume;
+//! - two-sided sheets (triangles of one operand over the same three vertices in opposite
+//!   orientations) are dropped: they add nothing to any winding number, and their faces have
+//!   no inside for classification to sample;
 //! - coordinates are multiplied by [`Input::scale`], an exact power of two chosen so that the
 //!   largest magnitude is near 1 when it is far from it, so predicate arithmetic on inputs
 //!   like ±3.4e38 neither overflows nor leaves the fast filters. The scale is applied only
@@ -35,7 +38,9 @@ use rayon::prelude::*;
 
 use crate::index::Aabb;
 use crate::kernel::Point3;
-use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces, weld_positions};
+use crate::mesh::{
+    FaceId, Mesh, PolygonError, opposite_triangle_pairs, triangulate_faces, weld_positions,
+};
 use crate::progress::{Cancelled, Progress, Stage};
 
 use super::intersect::Triangle;
@@ -220,6 +225,11 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
     };
     let offsets = vertex_offsets(operands);
     input.neighbours = link_edges(&input, &degenerate, operands, &welding.remap, &offsets)?;
+    let sheets = sheet_triangles(&input);
+    if !sheets.is_empty() {
+        input = without_triangles(input, &sheets);
+        input.neighbours = link_edges(&input, &degenerate, operands, &welding.remap, &offsets)?;
+    }
     for k in 0..operands.len() {
         let volume = signed_volume(&input, k);
         if volume < 0.0 {
@@ -267,6 +277,65 @@ fn add_operand_triangles(
         }
     }
     Ok(degenerate)
+}
+
+/// The triangles of two-sided sheets, sorted: pairs of one operand over the same three
+/// vertices in opposite orientations ([`opposite_triangle_pairs`]), which files written by
+/// other tools (and rounded results) carry where a sliver collapsed flat. A sheet adds
+/// nothing to any winding number, so without it the operand is the same solid; with it, its
+/// edges have four uses, no neighbour links across them, and its faces have no inside to
+/// sample. Only a triangle with a side that links no neighbour, or whose neighbour has the
+/// same corners, can be in one, so a clean operand costs one pass over its sides.
+fn sheet_triangles(input: &Input) -> Vec<u32> {
+    let sorted = |t: usize| {
+        let mut corners = input.triangles[t].vertices();
+        corners.sort_unstable();
+        corners
+    };
+    let candidates: Vec<u32> = (0..input.triangles.len())
+        .into_par_iter()
+        .filter(|&t| {
+            (input.neighbours[3 * t..3 * t + 3].iter())
+                .any(|&n| n == NO_NEIGHBOUR || sorted(n as usize) == sorted(t))
+        })
+        .map(|t| t as u32)
+        .collect();
+    let mut sheets = Vec::new();
+    let mut rest = candidates.as_slice();
+    for k in 0..input.operand_count() {
+        let end = input.operand_starts[k + 1];
+        let (own, tail) = rest.split_at(rest.partition_point(|&t| t < end));
+        let triangles = own
+            .iter()
+            .map(|&t| (t, input.triangles[t as usize].vertices()));
+        sheets.extend(opposite_triangle_pairs(triangles).into_iter().flatten());
+        rest = tail;
+    }
+    sheets.sort_unstable();
+    sheets
+}
+
+/// `input` without the triangles `removed` (sorted), renumbered; the neighbour links are
+/// left for the caller to rebuild.
+fn without_triangles(input: Input, removed: &[u32]) -> Input {
+    let kept = |t: &usize| removed.binary_search(&(*t as u32)).is_err();
+    let all = 0..input.triangles.len();
+    let triangles: Vec<Triangle> = (all.clone().filter(kept).enumerate())
+        .map(|(id, t)| input.triangles[t].with_id(id as u32))
+        .collect();
+    let operand: Vec<u32> = all.clone().filter(kept).map(|t| input.operand[t]).collect();
+    let face: Vec<FaceId> = all.filter(kept).map(|t| input.face[t]).collect();
+    let operand_starts = (input.operand_starts.iter())
+        .map(|&start| start - removed.partition_point(|&t| t < start) as u32)
+        .collect();
+    Input {
+        triangles,
+        operand,
+        face,
+        operand_starts,
+        neighbours: Vec::new(),
+        ..input
+    }
 }
 
 /// The first vertex index of each operand in the concatenated positions.

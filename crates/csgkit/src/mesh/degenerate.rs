@@ -14,6 +14,11 @@
 //! - **Duplicate faces**: faces whose sorted welded vertex lists equal an earlier face's,
 //!   whatever their orientation or starting corner (the reference's "repeated vertex
 //!   triples"). Degenerate faces count too.
+//! - **Opposite pairs** ([`opposite_triangle_pairs`]): two triangles over the same three
+//!   vertices in opposite orientations, a two-sided sheet. It adds nothing to any winding
+//!   number off the sheet, so removing both faces leaves the solid, its volume and the balance
+//!   of every edge as they were, while the sheet itself has no inside to sample and doubles
+//!   the uses of its edges.
 //!
 //! # Numeric model
 //! Exact for finite coordinates. Non-finite coordinates (rejected by readers) give an
@@ -137,6 +142,40 @@ fn count_duplicate_faces(mesh: &Mesh) -> usize {
         + repeats(polygons.len(), &|i| polygons[i] == polygons[i - 1])
 }
 
+/// The pairs of `triangles` (each an id and its welded corners) over the same three vertices
+/// in opposite orientations (see the module docs), each triangle in at most one pair, a
+/// triangle of one orientation paired with one of the other in id order; triangles with a
+/// repeated corner are in none.
+///
+/// # Complexity
+/// One sort of the triangles given, O(T log T).
+pub fn opposite_triangle_pairs(
+    triangles: impl IntoIterator<Item = (u32, [u32; 3])>,
+) -> Vec<[u32; 2]> {
+    // Key: the corners rotated so that the smallest is first, then the other two in increasing
+    // order; the flag says whether that took a reflection, so opposite triangles share a key
+    // and differ in the flag.
+    let mut keyed: Vec<([u32; 3], bool, u32)> = (triangles.into_iter())
+        .filter(|(_, c)| c[0] != c[1] && c[1] != c[2] && c[2] != c[0])
+        .map(|(id, c)| {
+            let first = (0..3).min_by_key(|&i| c[i]).unwrap_or(0);
+            let (a, b, d) = (c[first], c[(first + 1) % 3], c[(first + 2) % 3]);
+            if b < d {
+                ([a, b, d], false, id)
+            } else {
+                ([a, d, b], true, id)
+            }
+        })
+        .collect();
+    keyed.sort_unstable();
+    let mut pairs = Vec::new();
+    for group in keyed.chunk_by(|x, y| x.0 == y.0) {
+        let (forward, reflected) = group.split_at(group.partition_point(|x| !x.1));
+        pairs.extend((forward.iter().zip(reflected)).map(|(f, r)| [f.2, r.2]));
+    }
+    pairs
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -192,5 +231,23 @@ mod tests {
         let counts = count_degenerate(&mesh);
         assert_eq!(counts.duplicate, 2);
         assert_eq!(counts.repeated_vertex + counts.collinear, 0);
+    }
+
+    #[test]
+    fn pairs_triangles_of_opposite_orientation_only() {
+        // 0 and 1 are opposite; 2 repeats 0's orientation from another corner and has no
+        // partner left; 3 is opposite to 2; 4 shares only two corners; 5 repeats a corner.
+        let triangles = [
+            [0, 1, 2],
+            [2, 1, 0],
+            [1, 2, 0],
+            [0, 2, 1],
+            [0, 1, 3],
+            [0, 0, 1],
+        ];
+        let pairs = opposite_triangle_pairs((0..).zip(triangles));
+        assert_eq!(pairs, vec![[0, 1], [2, 3]]);
+        let unpaired = [[0, 1, 2], [1, 2, 0], [2, 1, 3]];
+        assert!(opposite_triangle_pairs((0..).zip(unpaired)).is_empty());
     }
 }

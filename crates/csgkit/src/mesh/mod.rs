@@ -60,7 +60,10 @@ pub(crate) mod vector;
 mod weld;
 
 pub use attributes::inherit_attributes;
-pub use degenerate::{DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape};
+pub use degenerate::{
+    DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape,
+    opposite_triangle_pairs,
+};
 pub use ids::{FaceId, OperandId, VertexId};
 pub use manifold_split::split_non_manifold;
 pub use measures::{BoundingBox, Measures, bounding_box, measure};

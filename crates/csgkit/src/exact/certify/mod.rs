@@ -27,8 +27,12 @@
 //!    exact result, which has no crossing, so the check looks at those faces and at every face
 //!    whose box overlaps one of theirs: a [`Bvh`] over the moved faces, queried by every face,
 //!    then the exact pair test of the self-intersection check on that neighbourhood, the
-//!    exact degeneracy test, and bit-identical positions.
-//! 2. **Done** if there is none.
+//!    exact degeneracy test, bit-identical positions, and pairs of opposite faces over the
+//!    same three vertices (a sliver between two surfaces that rounded flat into a two-sided
+//!    sheet, which the pair test does not see: it ignores faces with the same corners).
+//! 2. **Done** if there is none. Coincident vertices are merged and sheets removed (both
+//!    faces: the sheet bounds no volume, and every edge stays balanced) before anything
+//!    else is tried.
 //! 3. **Re-round** (`reround`): move a vertex of a problem face to an f64 point at most a few
 //!    ulps away where its faces have no problem with the faces around them (rounded points
 //!    first, then any vertex); most folds are a sliver corner rounded across the opposite
@@ -64,7 +68,7 @@ use rustc_hash::FxHashMap;
 
 use crate::index::{Aabb, Bvh};
 use crate::kernel::Point3;
-use crate::mesh::{Mesh, MeshParts, apply_welding, weld_positions};
+use crate::mesh::{Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_positions};
 
 use crate::progress::{Cancelled, Counter, Progress, Stage};
 
@@ -145,6 +149,8 @@ pub(crate) struct Certificate {
     pub rounds: usize,
     /// Slivers removed by collapsing a short side or flipping a needle.
     pub dissolved_slivers: usize,
+    /// Pairs of opposite faces over the same vertices (slivers that rounded flat) removed.
+    pub removed_sheets: usize,
 }
 
 /// What is wrong with a rounded mesh.
@@ -158,11 +164,19 @@ struct Problems {
     to_snap: Vec<u32>,
     /// Vertices at the position of another vertex (distinct ids, one position).
     coincident: Vec<u32>,
+    /// Pairs of faces over the same three vertices in opposite orientations: a sliver
+    /// between two surfaces that rounded flat. The pair test ignores faces with the same
+    /// corners, but the sheet doubles the uses of its edges and has no inside for the next
+    /// boolean to sample.
+    sheets: Vec<[u32; 2]>,
 }
 
 impl Problems {
     fn is_empty(&self) -> bool {
-        self.crossing_pairs == 0 && self.degenerate_faces == 0 && self.coincident.is_empty()
+        self.crossing_pairs == 0
+            && self.degenerate_faces == 0
+            && self.coincident.is_empty()
+            && self.sheets.is_empty()
     }
 }
 
@@ -252,6 +266,12 @@ fn certify_rounds(
             // Two exact points rounded to one f64 point: they are one vertex of the f64
             // mesh; the faces between them collapse.
             (mesh, moved) = merge_coincident(mesh, &moved);
+            continue;
+        }
+        if !problems.sheets.is_empty() {
+            // The sheet bounds no volume: both faces go, and every edge stays balanced.
+            certificate.removed_sheets += problems.sheets.len();
+            mesh = remove_faces(mesh, problems.sheets.iter().flatten());
             continue;
         }
         // Each successful re-rounding clears the faces of one vertex and breaks none, so
@@ -357,7 +377,12 @@ fn find_problems(mesh: &Mesh, moved: &[bool]) -> Problems {
         return Problems::default();
     }
     let near = faces_near(mesh.positions(), corners, &suspects, 0.0, None);
-    problems_among(mesh.positions(), corners, &near, &suspects)
+    let mut problems = problems_among(mesh.positions(), corners, &near, &suspects);
+    // Both faces of a sheet have its moved vertex, so the suspects hold every sheet.
+    problems.sheets = opposite_triangle_pairs(
+        (suspects.iter()).map(|&f| (f, [0, 1, 2].map(|i| corners[3 * f as usize + i]))),
+    );
+    problems
 }
 
 /// The faces (of `within`, or of all) whose boxes overlap the box of one of `seeds` widened
@@ -463,6 +488,7 @@ fn problems_among(
         degenerate_faces: degenerate.len(),
         to_snap,
         coincident,
+        sheets: Vec::new(),
     }
 }
 
@@ -670,10 +696,21 @@ fn merge_coincident(mesh: Mesh, moved: &[bool]) -> (Mesh, Vec<bool>) {
         merged_moved[welding.remap[welding.representatives[w as usize] as usize] as usize] |=
             merged;
     }
-    let mut parts = apply_welding(&mesh, &welding).into_parts();
-    let keep: Vec<bool> = (parts.corners.chunks_exact(3))
-        .map(|c| c[0] != c[1] && c[1] != c[2] && c[2] != c[0])
+    let welded = apply_welding(&mesh, &welding);
+    let collapsed: Vec<u32> = (welded.corners().chunks_exact(3).enumerate())
+        .filter(|(_, c)| c[0] == c[1] || c[1] == c[2] || c[2] == c[0])
+        .map(|(f, _)| f as u32)
         .collect();
+    (remove_faces(welded, &collapsed), merged_moved)
+}
+
+/// The mesh without `faces`, keeping every vertex (the next check looks only at faces).
+fn remove_faces<'a>(mesh: Mesh, faces: impl IntoIterator<Item = &'a u32>) -> Mesh {
+    let mut parts = mesh.into_parts();
+    let mut keep = vec![true; parts.corners.len() / 3];
+    for &f in faces {
+        keep[f as usize] = false;
+    }
     parts.corners = (parts.corners.chunks_exact(3).zip(&keep))
         .filter(|(_, k)| **k)
         .flat_map(|(c, _)| c.iter().copied())
@@ -684,8 +721,7 @@ fn merge_coincident(mesh: Mesh, moved: &[bool]) -> (Mesh, Vec<bool>) {
             .map(|(p, _)| *p)
             .collect();
     }
-    let mesh = Mesh::from_parts(parts).expect("welding keeps indices in range");
-    (mesh, merged_moved)
+    Mesh::from_parts(parts).expect("removing faces keeps indices in range")
 }
 
 /// The vertices of the faces whose boxes overlap a face around one of `vertices`.
