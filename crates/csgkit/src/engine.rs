@@ -8,7 +8,7 @@ use crate::discrete::{DiscreteStats, DiscretizeOptions, Grid, combine, labelled_
 use crate::error::Error;
 use crate::exact::{BooleanOptions, BooleanStats, Expression, boolean_expression};
 use crate::mesh::Mesh;
-use crate::ortho::{MeshOptions, bounded_box, box_union_timed};
+use crate::ortho::{MeshOptions, bounded_box, box_union_mesh};
 use crate::progress::{Progress, Stage, StageClock};
 
 mod sealed {
@@ -149,11 +149,9 @@ impl Engine for ExactEngine {
         let corners: Vec<[f64; 6]> = (boxes.iter())
             .map(|&k| bounded_box(operands[k]).expect("plain_boxes keeps boxes only"))
             .collect();
-        let (brep, mut stage_seconds) = box_union_timed(&corners, None, progress)?;
-        let mut clock = StageClock::new(progress);
-        let united = brep.to_mesh(MeshOptions::default())?.mesh;
-        clock.end(Stage::Triangulate)?;
-        stage_seconds.extend(clock.into_seconds());
+        let (out, mut stage_seconds) =
+            box_union_mesh(&corners, None, MeshOptions::default(), progress)?;
+        let united = out.mesh;
         let mut rest: Vec<&Mesh> = (operands.iter().enumerate())
             .filter(|(k, _)| boxes.binary_search(k).is_err())
             .map(|(_, mesh)| *mesh)
@@ -267,11 +265,7 @@ impl Engine for OrthoEngine {
             })?;
             boxes.push(solid);
         }
-        let (brep, mut stage_seconds) = box_union_timed(&boxes, None, progress)?;
-        let mut clock = StageClock::new(progress);
-        let out = brep.to_mesh(self.mesh)?;
-        clock.end(Stage::Triangulate)?;
-        stage_seconds.extend(clock.into_seconds());
+        let (out, stage_seconds) = box_union_mesh(&boxes, None, self.mesh, progress)?;
         Ok(Output {
             mesh: out.mesh,
             stats: Stats::Ortho(OrthoStats {
