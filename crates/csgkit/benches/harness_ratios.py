@@ -26,6 +26,7 @@ def main():
     ap.add_argument("--results", required=True, help="the run's --results-dir")
     ap.add_argument("--plot", help="write the scaling plot to this PNG")
     args = ap.parse_args()
+    plot_path = os.path.abspath(args.plot) if args.plot else None
     sys.path.insert(0, os.path.abspath(args.peers_dir))
     os.chdir(args.peers_dir)
     import bench  # the harness's own loading and correctness rules
@@ -57,8 +58,8 @@ def main():
         geo = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
         print(f"\nGeometric mean over {len(ratios)} cases: {geo:.2f}×; worst {max(ratios):.2f}×; "
               f"cases above 1.5×: {sum(r > 1.5 for r in ratios)}")
-    if args.plot:
-        plot(results, args.plot)
+    if plot_path:
+        plot(results, plot_path)
 
 
 def plot(results, path):
