@@ -44,7 +44,10 @@ pub fn save(py: Python<'_>, mesh: &Bound<'_, PyAny>, path: PathBuf, ascii: bool)
         },
         ..WriteOptions::default()
     };
-    detached(py, None, |_| Ok(write_mesh(&path, &mesh, options)?))
+    detached(py, None, |_| {
+        write_mesh(&path, &mesh, options)?;
+        Ok(())
+    })
 }
 
 /// Every validity check and measure of a mesh, as `csgkit check --json` reports them: a
