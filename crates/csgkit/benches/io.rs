@@ -1,5 +1,6 @@
-//! Loading speed of the readers on the largest shared meshes, in bytes per second, and writing
-//! speed of the writers on the largest mesh, in triangles per second.
+//! Loading speed of the readers on the largest shared meshes, in bytes per second, writing
+//! speed of the writers on the largest mesh, in triangles per second, and both for 3MF and GLB
+//! on that mesh (1.1 M triangles), in bytes of the file per second.
 //!
 //! Run: `cargo bench -p csgkit --bench io -- --warm-up-time 1 --measurement-time 3`.
 //! Skips with a message when `../shared/data` is absent; `$CSGKIT_SHARED_DATA` overrides the
@@ -41,6 +42,7 @@ fn load(c: &mut Criterion) {
     }
     group.finish();
     save(c, &dir);
+    parts_formats(c, &dir);
 }
 
 /// Rendering the large PLY mesh in every format (into memory: the disk is not measured).
@@ -59,6 +61,30 @@ fn save(c: &mut Criterion, dir: &Path) {
     ] {
         group.bench_function(format!("{name} as {format} {encoding:?}"), |b| {
             b.iter(|| csgkit::write_mesh_to_bytes(&mesh, format, encoding).expect("writes"));
+        });
+    }
+    group.finish();
+}
+
+/// Writing and reading the large PLY mesh as 3MF and GLB, in bytes of the file per second
+/// (the file csgkit writes is the one it reads; `scripts/trimesh_formats.py --bench` times
+/// trimesh on the same mesh).
+fn parts_formats(c: &mut Criterion, dir: &Path) {
+    let name = FILES[0];
+    let mesh = csgkit::read_mesh(dir.join(name))
+        .expect("benchmark file loads")
+        .mesh;
+    let mut group = c.benchmark_group("formats");
+    group.sample_size(10);
+    for (format, extension) in [(Format::ThreeMf, "3mf"), (Format::Glb, "glb")] {
+        let bytes = csgkit::write_mesh_to_bytes(&mesh, format, Encoding::Binary).expect("writes");
+        eprintln!("{name} as {extension}: {} bytes", bytes.len());
+        group.throughput(Throughput::Bytes(bytes.len() as u64));
+        group.bench_function(format!("write/{extension}/{}", mesh.face_count()), |b| {
+            b.iter(|| csgkit::write_mesh_to_bytes(&mesh, format, Encoding::Binary).expect("writes"));
+        });
+        group.bench_function(format!("read/{extension}/{}", mesh.face_count()), |b| {
+            b.iter(|| csgkit::read_mesh_from_bytes(&bytes, Some(format)).expect("reads"));
         });
     }
     group.finish();

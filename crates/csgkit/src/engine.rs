@@ -109,7 +109,12 @@ impl Stats {
     }
 }
 
-/// The exact engine: [`boolean_expression`] with these options.
+/// The exact engine: [`boolean_expression`] with these options. Three or more operands of a
+/// union (of a difference, after the first) that are plain axis-aligned boxes are united
+/// by the orthogonal engine first and enter the exact engine as one operand, as box unions
+/// in CSG trees do: its stages ([`Stage::Rank`], [`Stage::Sweep`], [`Stage::Loops`],
+/// [`Stage::Triangulate`]) come first in the statistics, and the result's provenance
+/// numbers the remaining operands in order, then the united boxes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ExactEngine {
     /// How the boolean runs.
@@ -129,14 +134,75 @@ impl Engine for ExactEngine {
         operands: &[&Mesh],
         progress: &Progress,
     ) -> Result<Output, Error> {
-        let expression = Expression::of(operation, operands.len());
-        let result = boolean_expression(&expression, operands, &self.options, progress)?;
+        let boxes = plain_boxes(operation, operands);
+        if boxes.is_empty() {
+            let expression = Expression::of(operation, operands.len());
+            let result = boolean_expression(&expression, operands, &self.options, progress)?;
+            return Ok(Output {
+                mesh: result.mesh,
+                stats: Stats::Exact(result.stats),
+            });
+        }
+        // The boxes are united by the orthogonal engine (exactly, from comparisons of their
+        // coordinates), and the exact engine meets one operand instead of many, as in CSG
+        // trees: a union or a difference is associative over its united operands.
+        let corners: Vec<[f64; 6]> = (boxes.iter())
+            .map(|&k| bounded_box(operands[k]).expect("plain_boxes keeps boxes only"))
+            .collect();
+        let (out, mut stage_seconds) =
+            box_union_mesh(&corners, None, MeshOptions::default(), progress)?;
+        let united = out.mesh;
+        let mut rest: Vec<&Mesh> = (operands.iter().enumerate())
+            .filter(|(k, _)| boxes.binary_search(k).is_err())
+            .map(|(_, mesh)| *mesh)
+            .collect();
+        rest.push(&united);
+        let expression = Expression::of(operation, rest.len());
+        let mut result = boolean_expression(&expression, &rest, &self.options, progress)?;
+        stage_seconds.append(&mut result.stats.stage_seconds);
+        result.stats.stage_seconds = stage_seconds;
         Ok(Output {
             mesh: result.mesh,
             stats: Stats::Exact(result.stats),
         })
     }
 }
+
+/// The operands of `operation` that the orthogonal engine can unite first, in order: for a
+/// union every operand, for a difference those after the first, that is a plain box (its
+/// eight corners, bounding an axis-aligned box, with no attribute that its faces would lose
+/// when they merge into maximal faces); none unless there are at least
+/// [`MIN_UNITED_BOXES`].
+fn plain_boxes(operation: Operation, operands: &[&Mesh]) -> Vec<usize> {
+    let first = match operation {
+        Operation::Union => 0,
+        Operation::Difference => 1,
+        Operation::Intersection | Operation::Xor => return Vec::new(),
+    };
+    let plain = |mesh: &Mesh| {
+        mesh.vertex_count() == 8
+            && mesh.face_materials().is_none()
+            && mesh.face_groups().is_none()
+            && mesh.face_colors().is_none()
+            && mesh.corner_uvs().is_none()
+            && mesh.corner_normals().is_none()
+            && mesh.vertex_colors().is_none()
+            && bounded_box(mesh).is_some()
+    };
+    let boxes: Vec<usize> = (first..operands.len())
+        .filter(|&k| plain(operands[k]))
+        .collect();
+    if boxes.len() >= MIN_UNITED_BOXES {
+        boxes
+    } else {
+        Vec::new()
+    }
+}
+
+/// The fewest boxes [`ExactEngine`] unites with the orthogonal engine. Two boxes make an
+/// arrangement too small for the detour to pay, and the exact engine's own result keeps
+/// each box face as a face of its own (the orthogonal engine's are maximal).
+const MIN_UNITED_BOXES: usize = 3;
 
 /// The orthogonal engine on meshes: the union of operands that each bound one axis-aligned
 /// box (any tessellation of the box's surface, outward), as maximal faces.

@@ -52,8 +52,9 @@ pub use exact::{
 };
 pub use index::{Aabb, Bvh};
 pub use io::{
-    Encoding, Format, LoadedMesh, Location, ParseError, ReadError, WriteError, WriteOptions,
-    read_mesh, read_mesh_from_bytes, write_mesh, write_mesh_to_bytes,
+    Encoding, External, Format, LoadedMesh, LoadedMeshes, Location, ParseError, Part, ReadError,
+    Unit, WriteError, WriteOptions, Written, no_external_files, read_mesh, read_mesh_from_bytes,
+    read_meshes, read_meshes_from_bytes, rounded_coordinates, write_mesh, write_mesh_to_bytes,
 };
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
 pub use operation::Operation;

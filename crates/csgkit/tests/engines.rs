@@ -114,6 +114,59 @@ fn outputs_carry_each_engines_stats() {
     assert_eq!(stages(&discrete), want);
 }
 
+/// Plain boxes among the operands of a union or a difference are united by the orthogonal
+/// engine before the exact engine runs: a Menger sponge of level 2 (a cube minus 30 bars)
+/// has volume 400 = 20² and its stages start with the orthogonal ones; the exact engine's
+/// own n-ary arrangement (`exact::boolean`, no routing) gives the same volume; painted boxes
+/// are not routed.
+#[test]
+fn the_exact_engine_unites_plain_boxes_first() {
+    // The bars of levels 1 and 2 through the whole cube [0, 9]³, along each axis.
+    let mut bars = Vec::new();
+    for step in [3.0, 1.0] {
+        for a in (0..9).map(f64::from).filter(|a| a % (3.0 * step) == step) {
+            for b in (0..9).map(f64::from).filter(|b| (b % (3.0 * step)) == step) {
+                for axis in 0..3 {
+                    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                    let mut min = [0.0; 3];
+                    let mut max = [9.0; 3];
+                    (min[u], max[u], min[v], max[v]) = (a, a + step, b, b + step);
+                    bars.push(cuboid(min, max));
+                }
+            }
+        }
+    }
+    let cube = cuboid([0.0; 3], [9.0; 3]);
+    let operands: Vec<&Mesh> = std::iter::once(&cube).chain(&bars).collect();
+    let output = (ExactEngine::default())
+        .apply(Operation::Difference, &operands, &Progress::default())
+        .unwrap();
+    let report = output.mesh.report();
+    assert!(report.is_valid_solid(), "{report:?}");
+    assert_eq!(report.measures.volume, 400.0);
+    let direct = csgkit::exact::boolean(
+        Operation::Difference,
+        &operands,
+        &csgkit::exact::BooleanOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(report.measures.volume, direct.mesh.report().measures.volume);
+    let Stats::Exact(stats) = output.stats else {
+        panic!("the exact engine's stats")
+    };
+    assert_eq!(stats.stage_seconds[0].0, Stage::Rank, "{stats:?}");
+    // A painted box keeps its own faces: no routing with fewer than three plain boxes.
+    let painted = box_of_quads([3.0, 3.0, -1.0], [6.0, 6.0, 10.0], ["a", "b", "c"]);
+    let two_plain: Vec<&Mesh> = [&cube, &painted, &bars[0], &bars[1]].into();
+    let output = (ExactEngine::default())
+        .apply(Operation::Difference, &two_plain, &Progress::default())
+        .unwrap();
+    let Stats::Exact(stats) = output.stats else {
+        panic!("the exact engine's stats")
+    };
+    assert_ne!(stats.stage_seconds[0].0, Stage::Rank, "{stats:?}");
+}
+
 #[test]
 fn the_orthogonal_engine_takes_unions_of_boxes_only() {
     let ortho = OrthoEngine::default();

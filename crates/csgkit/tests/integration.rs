@@ -24,11 +24,12 @@ mod exact_real;
 // The exact engine on operands that are not simple solids: crossing faces, nested and inward
 // shells, winding rules, repair; certified results and chains through files.
 mod exact_winding;
-// Every shared data mesh loads with the manifest's counts; formats round-trip.
+// Every shared data mesh loads with the manifest's counts; every format (3MF and glTF too)
+// round-trips positions, materials and colours; malformed files of each format get exact errors.
 mod io_formats;
 // ARCHITECTURE.md's layering: no two modules of the library import each other.
 mod layering;
-// Truncated, corrupted and random bytes make no reader panic.
+// Truncated, corrupted and random bytes make no reader panic (3MF, glTF and binary OFF too).
 mod io_fuzz;
 // Non-convex, collinear and self-overlapping polygons: the triangulator, the self-intersection
 // check and exact booleans of polygon solids.

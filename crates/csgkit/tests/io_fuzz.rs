@@ -2,17 +2,20 @@
 
 use std::sync::OnceLock;
 
-use csgkit::{Format, read_mesh_from_bytes};
+use csgkit::{Encoding, Format, Mesh, MeshParts, read_mesh_from_bytes, write_mesh_to_bytes};
 use proptest::prelude::*;
 
 use crate::util::shared_data;
 
-const FORMATS: [Option<Format>; 5] = [
+const FORMATS: [Option<Format>; 8] = [
     None,
     Some(Format::Obj),
     Some(Format::Stl),
     Some(Format::Ply),
     Some(Format::Off),
+    Some(Format::ThreeMf),
+    Some(Format::Gltf),
+    Some(Format::Glb),
 ];
 
 const PLY_HEADER: &str = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
@@ -48,6 +51,30 @@ fn seeds() -> Vec<Vec<u8>> {
     }
     binary_stl.extend_from_slice(&[0, 0]);
     seeds.push(binary_stl);
+    let mut binary_off = b"OFF BINARY\n".to_vec();
+    for n in [3i32, 1, 0] {
+        binary_off.extend_from_slice(&n.to_be_bytes());
+    }
+    for c in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        binary_off.extend_from_slice(&c.to_be_bytes());
+    }
+    for n in [3i32, 0, 1, 2, 0] {
+        binary_off.extend_from_slice(&n.to_be_bytes());
+    }
+    seeds.push(binary_off);
+    let triangle = Mesh::from_parts(MeshParts {
+        positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        corners: vec![0, 1, 2],
+        face_materials: Some(vec![0]),
+        materials: vec!["m".into()],
+        face_colors: Some(vec![[1, 2, 3, 4]]),
+        corner_uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+        ..MeshParts::default()
+    })
+    .expect("a valid triangle");
+    for format in [Format::ThreeMf, Format::Gltf, Format::Glb] {
+        seeds.push(write_mesh_to_bytes(&triangle, format, Encoding::default()).expect("written"));
+    }
     seeds
 }
 
@@ -110,7 +137,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 4000, ..ProptestConfig::default() })]
 
     #[test]
-    fn corrupted_seeds(seed in 0usize..6, flips in flips(8)) {
+    fn corrupted_seeds(seed in 0usize..10, flips in flips(8)) {
         read_all(&corrupt(seeds()[seed].clone(), &flips));
     }
 
@@ -126,6 +153,8 @@ proptest! {
             "OFF\n",
             "solid\n",
             "v 1 2 3\n",
+            "{\"asset\": {\"version\": \"2.0\"}, ",
+            "OFF BINARY\n",
             "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty list uint double x\n\
              end_header\n",
         ]),

@@ -14,7 +14,7 @@ use csgkit::ortho::{
     BRep, MeshOptions, MeshOutput, VoxOptions, box_union_per_material, box_union_timed,
     parse_boxes, per_material_mesh, read_vox, with_palette_colors,
 };
-use csgkit::{Mesh, Rgba, Stage, WriteOptions, write_mesh};
+use csgkit::{Mesh, Rgba, Stage, WriteOptions};
 
 use crate::progress::{seconds_of, with_bar};
 
@@ -103,7 +103,7 @@ pub fn run(args: &BoxesArgs) -> anyhow::Result<()> {
         None => out.mesh,
     };
     let write_clock = Instant::now();
-    write_mesh(&args.output, &mesh, WriteOptions::default())
+    super::save(&args.output, &mesh, WriteOptions::default())
         .with_context(|| format!("writing {}", args.output.display()))?;
     report.write_seconds = write_clock.elapsed().as_secs_f64();
     if args.stats {

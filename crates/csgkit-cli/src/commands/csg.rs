@@ -17,7 +17,7 @@ use csgkit::csg::openscad::parse_openscad_csg;
 use csgkit::csg::scene::read_scene;
 use csgkit::csg::{Node, NodeKind, evaluate};
 use csgkit::exact::BooleanOptions;
-use csgkit::{Format, WriteError, WriteOptions, write_mesh};
+use csgkit::{Format, WriteError, WriteOptions};
 use serde_json::json;
 
 use super::exact::{FaceArgs, stages_json, validate_seconds};
@@ -67,7 +67,7 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
         ..WriteOptions::default()
     };
     let mesh = &evaluation.result.mesh;
-    write_mesh(&args.output, mesh, options)?;
+    super::save(&args.output, mesh, options)?;
     let write_seconds = clock.elapsed().as_secs_f64();
     if args.stats {
         let s = &evaluation.result.stats;

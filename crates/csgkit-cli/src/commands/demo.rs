@@ -112,7 +112,8 @@ fn exact_showcase(args: &DemoArgs) -> anyhow::Result<()> {
 fn write(args: &DemoArgs, name: &str, mesh: &Mesh) -> anyhow::Result<()> {
     let path = args.output.join(name);
     write_mesh(&path, mesh, WriteOptions::default())
-        .with_context(|| format!("writing {}", path.display()))
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
 }
 
 /// The unit voxels of a level-2 Menger sponge (27 × 27 × 27 / 9 … cells), each coloured

@@ -341,7 +341,7 @@ fn write_boxes(solid: &Solid, path: &Path) -> anyhow::Result<Written> {
 /// Writes `mesh`, built in `convert_seconds`, to `path`.
 fn write_mesh(mesh: &Mesh, path: &Path, convert_seconds: f64) -> anyhow::Result<Written> {
     let t = Instant::now();
-    csgkit::write_mesh(path, mesh, csgkit::WriteOptions::default())
+    super::save(path, mesh, csgkit::WriteOptions::default())
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(Written {
         json: json!({"vertices": mesh.vertex_count(), "faces": mesh.face_count()}),

@@ -5,8 +5,11 @@
 //! all others) and writes the result, whole or not at all, in the format the output's
 //! extension names.
 //!
-//! The library names a faulty operand by its index; errors here name it by its file, so
-//! `csgkit union a.obj b.obj` reports "b.obj: operand 1 is not closed …".
+//! A file of several parts (a 3MF with several build items, a glTF with several mesh nodes)
+//! gives one operand per part, or one merged operand with `--merge`.
+//!
+//! The library names a faulty operand by its index; errors here name it by its file (and
+//! part), so `csgkit union a.obj b.obj` reports "b.obj: operand 1 is not closed …".
 //!
 //! `--stats` prints one JSON object, and nothing else, on stdout: the peers benchmark harness
 //! reads `op_seconds` from it. `op_seconds` is [`BooleanStats::op_seconds`], the pipeline
@@ -14,19 +17,17 @@
 //! (`read_seconds`, `write_seconds`); `stages` holds the seconds of every stage that ran, by
 //! its snake_case name.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
 use clap::Args;
 use csgkit::exact::{Boolean, BooleanError, BooleanOptions, BooleanStats, WindingRule};
 use csgkit::mesh::{FaceMode, MeshReport};
-use csgkit::{
-    Engine, ExactEngine, Format, Mesh, Operation, Stats, WriteError, WriteOptions, write_mesh,
-};
+use csgkit::{Engine, ExactEngine, Format, Mesh, Operation, Stats, WriteError, WriteOptions};
 use serde_json::json;
 
-use super::{load, warn_if_manifold_lost};
+use super::{load_parts, save, warn_if_manifold_lost};
 use crate::progress::{seconds_of, with_bar};
 
 /// Below this many input faces the boolean ends before a progress bar would help.
@@ -35,13 +36,19 @@ const PROGRESS_MIN_FACES: usize = 20_000;
 /// Arguments of `csgkit union`, `intersection`, `difference` and `xor`.
 #[derive(Args, Debug, Clone)]
 pub struct ExactArgs {
-    /// The operands: two or more closed meshes (OBJ, STL, PLY or OFF); their faces may cross
-    /// each other and their shells may nest (see --winding).
-    #[arg(required = true, num_args = 2.., value_name = "FILE")]
+    /// The operands: closed meshes (OBJ, STL, PLY, OFF, 3MF, glTF/GLB), two or more in all;
+    /// each build item of a 3MF and each mesh node of a glTF is an operand of its own (see
+    /// --merge). Their faces may cross each other and their shells may nest (see --winding).
+    #[arg(required = true, num_args = 1.., value_name = "FILE")]
     pub inputs: Vec<PathBuf>,
-    /// The output mesh; its extension chooses the format (obj, ply, off, stl).
+    /// The output mesh; its extension chooses the format (obj, ply, off, stl, 3mf, gltf, glb;
+    /// glTF stores f32, so its coordinates are rounded, with a warning).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Read each file as one operand: the build items of a 3MF, or the mesh nodes of a glTF,
+    /// merged into one mesh.
+    #[arg(long)]
+    pub merge: bool,
     /// Split the result's non-manifold edges and vertices by duplicating vertices, so it is a
     /// 2-manifold (lost in STL, which stores no shared vertices).
     #[arg(long)]
@@ -138,20 +145,34 @@ impl Winding {
     }
 }
 
-/// Runs `csgkit union`, `intersection`, `difference` or `xor` (and `repair`, a union of one
-/// operand);
+/// Runs `csgkit union`, `intersection`, `difference` or `xor` on two or more operands;
 /// returns what the library reported.
 pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
+    run_operands(op, args, 2)
+}
+
+/// Runs the operation on at least `min_operands` operands (`repair`: a union of one).
+pub fn run_operands(
+    op: Operation,
+    args: &ExactArgs,
+    min_operands: usize,
+) -> anyhow::Result<BooleanStats> {
     // The format is settled before any work, so a mistyped extension costs nothing.
     let format = Format::from_extension(&args.output).ok_or_else(|| WriteError::UnknownFormat {
         path: args.output.clone(),
     })?;
     let clock = Instant::now();
-    let meshes = (args.inputs.iter())
-        .map(|path| load(path).map(|loaded| loaded.mesh))
-        .collect::<anyhow::Result<Vec<Mesh>>>()?;
+    let operands = load_operands(&args.inputs, args.merge)?;
+    if operands.len() < min_operands {
+        anyhow::bail!(
+            "the {} needs {min_operands} or more operands; the files give {}",
+            op.name(),
+            operands.len()
+        );
+    }
+    let (names, meshes): (Vec<String>, Vec<Mesh>) = operands.into_iter().unzip();
     let read_seconds = clock.elapsed().as_secs_f64();
-    let result = compute(op, args, format, &meshes)
+    let result = compute(op, args, format, &meshes, &names)
         .with_context(|| format!("cannot compute the {}", op.name()))?;
     warn_if_manifold_lost(args.manifold, &args.output);
     let clock = Instant::now();
@@ -159,17 +180,38 @@ pub fn run(op: Operation, args: &ExactArgs) -> anyhow::Result<BooleanStats> {
         format: Some(format),
         ..WriteOptions::default()
     };
-    write_mesh(&args.output, &result.mesh, options)?;
+    save(&args.output, &result.mesh, options)?;
     let write_seconds = clock.elapsed().as_secs_f64();
     if args.stats {
         let seconds = IoSeconds {
             read: read_seconds,
             write: write_seconds,
         };
-        let stats = stats_json(op, args, &meshes, &result, &result.mesh.report(), seconds);
+        let stats = stats_json(op, args, &names, &meshes, &result, seconds);
         println!("{stats}");
     }
     Ok(result.stats)
+}
+
+/// The operands the files give, each with its name for errors and `--stats`: one per file, or
+/// with several parts and no `--merge`, one per part ("a.3mf, item 2 (bolt)").
+fn load_operands(paths: &[PathBuf], merge: bool) -> anyhow::Result<Vec<(String, Mesh)>> {
+    let mut operands = Vec::new();
+    for path in paths {
+        let loaded = load_parts(path)?;
+        let file = path.display().to_string();
+        if merge || loaded.parts.len() == 1 {
+            let merged = loaded
+                .merge()
+                .with_context(|| format!("cannot load {file}"))?;
+            operands.push((file, merged.mesh));
+        } else {
+            for (k, part) in loaded.parts.into_iter().enumerate() {
+                operands.push((format!("{file}, part {k} ({})", part.name), part.mesh));
+            }
+        }
+    }
+    Ok(operands)
 }
 
 /// Runs the exact engine with a bar per stage; an error about an operand names its file.
@@ -178,6 +220,7 @@ fn compute(
     args: &ExactArgs,
     format: Format,
     meshes: &[Mesh],
+    names: &[String],
 ) -> anyhow::Result<Boolean> {
     let operands: Vec<&Mesh> = meshes.iter().collect();
     let faces = meshes.iter().map(Mesh::face_count).sum();
@@ -193,7 +236,7 @@ fn compute(
     let output = with_bar(faces, PROGRESS_MIN_FACES, |progress| {
         engine.apply(op, &operands, progress)
     })
-    .map_err(|err| name_operand(err, &args.inputs))?;
+    .map_err(|err| name_operand(err, names))?;
     let Stats::Exact(stats) = output.stats else {
         unreachable!("the exact engine gives the exact engine's statistics")
     };
@@ -204,15 +247,15 @@ fn compute(
 }
 
 /// The library's error, under the file name of the operand it names (if any).
-fn name_operand(err: csgkit::Error, inputs: &[PathBuf]) -> anyhow::Error {
+fn name_operand(err: csgkit::Error, names: &[String]) -> anyhow::Error {
     let operand = match &err {
         csgkit::Error::Boolean(BooleanError::InvalidOperand(invalid)) => {
-            inputs.get(invalid.operand())
+            names.get(invalid.operand())
         }
         _ => None,
     };
     match operand {
-        Some(path) => anyhow::Error::new(err).context(path.display().to_string()),
+        Some(name) => anyhow::Error::new(err).context(name.clone()),
         None => err.into(),
     }
 }
@@ -240,14 +283,15 @@ struct IoSeconds {
 fn stats_json(
     op: Operation,
     args: &ExactArgs,
+    names: &[String],
     meshes: &[Mesh],
     result: &Boolean,
-    report: &MeshReport,
     seconds: IoSeconds,
 ) -> serde_json::Value {
     let s: &BooleanStats = &result.stats;
-    let inputs: Vec<_> = (args.inputs.iter().zip(meshes))
-        .map(|(path, mesh)| input_json(path, mesh))
+    let report: MeshReport = result.mesh.report();
+    let inputs: Vec<_> = (names.iter().zip(meshes))
+        .map(|(name, mesh)| input_json(name, mesh))
         .collect();
     let stages = stages_json(s);
     let validate_seconds = validate_seconds(s);
@@ -284,10 +328,10 @@ fn stats_json(
     })
 }
 
-/// One operand in `--stats`: its file and counts as read.
-fn input_json(path: &Path, mesh: &Mesh) -> serde_json::Value {
+/// One operand in `--stats`: its file (and part) and counts as read.
+fn input_json(name: &str, mesh: &Mesh) -> serde_json::Value {
     json!({
-        "file": path.display().to_string(),
+        "file": name,
         "vertices": mesh.vertex_count(),
         "faces": mesh.face_count(),
     })
@@ -300,7 +344,7 @@ mod tests {
 
     #[test]
     fn an_operand_error_names_the_file() {
-        let inputs = [PathBuf::from("a.obj"), PathBuf::from("dir/b.stl")];
+        let inputs = ["a.obj".to_owned(), "dir/b.stl".to_owned()];
         let err = csgkit::Error::from(BooleanError::InvalidOperand(InvalidOperand::Inverted {
             operand: 1,
             volume: -1.0,

@@ -1,7 +1,9 @@
 //! `csgkit info FILE`: what a mesh file holds, without the validity analysis.
 //!
 //! Prints the format, the vertex and face counts, the bounding box and which attributes are
-//! present. It is cheap (no edge table); `csgkit check` runs the full analysis.
+//! present, and for a file of several parts (3MF build items, glTF mesh nodes) each part and
+//! the unit a 3MF declares. It is cheap (no edge table); `csgkit check` runs the full
+//! analysis.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -10,22 +12,36 @@ use std::process::ExitCode;
 
 use csgkit::Mesh;
 
-use super::{describe_format, load, point};
+use super::{describe_format, load_parts, point};
 
 /// Arguments of `csgkit info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The mesh file (OBJ, STL, PLY or OFF).
+    /// The mesh file (OBJ, STL, PLY, OFF, 3MF, glTF or GLB).
     pub file: PathBuf,
 }
 
 /// Prints the summary; exit status 0.
 pub fn run(args: &InfoArgs) -> anyhow::Result<ExitCode> {
-    let loaded = load(&args.file)?;
+    let parts = load_parts(&args.file)?;
+    let unit = parts.unit;
+    let names: Vec<(String, usize)> = (parts.parts.iter())
+        .map(|p| (p.name.clone(), p.mesh.face_count()))
+        .collect();
+    let loaded = parts.merge()?;
     let mesh = &loaded.mesh;
     let mut out = String::new();
     writeln!(out, "file:        {}", args.file.display())?;
     writeln!(out, "format:      {}", describe_format(&loaded))?;
+    if let Some(unit) = unit {
+        writeln!(out, "unit:        {} (read as millimetres)", unit.name())?;
+    }
+    if names.len() != 1 {
+        writeln!(out, "parts:       {}", names.len())?;
+        for (name, faces) in &names {
+            writeln!(out, "  {name}: {faces} faces")?;
+        }
+    }
     let stored = loaded.raw_vertex_count;
     if stored == mesh.vertex_count() {
         writeln!(out, "vertices:    {stored}")?;

@@ -13,19 +13,44 @@ pub mod repair;
 use std::path::Path;
 
 use anyhow::Context;
-use csgkit::{Format, LoadedMesh};
+use csgkit::{Format, LoadedMesh, LoadedMeshes, Mesh, WriteOptions};
 
-/// Reads a mesh file, naming the file in the error.
+/// Reads a mesh file (its parts merged), naming the file in the error.
 pub fn load(path: &Path) -> anyhow::Result<LoadedMesh> {
     csgkit::read_mesh(path).with_context(|| format!("cannot load {}", path.display()))
 }
 
-/// Warns that `--manifold` is lost when the output is STL, which stores positions rather than
-/// shared vertices, so the vertices the split duplicated merge again on reading.
-pub fn warn_if_manifold_lost(manifold: bool, output: &Path) {
-    if manifold && Format::from_extension(output) == Some(Format::Stl) {
+/// Reads a mesh file with its parts (3MF build items, glTF nodes), naming the file in the error.
+pub fn load_parts(path: &Path) -> anyhow::Result<LoadedMeshes> {
+    csgkit::read_meshes(path).with_context(|| format!("cannot load {}", path.display()))
+}
+
+/// Writes `mesh` to `path`, whole or not at all, and warns once on stderr when the format
+/// rounded coordinates (glTF and binary STL store f32), since the result was exact.
+pub fn save(path: &Path, mesh: &Mesh, options: WriteOptions) -> anyhow::Result<()> {
+    let written = csgkit::write_mesh(path, mesh, options)?;
+    if written.rounded_coordinates > 0 {
+        let format = options.format.or_else(|| Format::from_extension(path));
+        let name = format.map_or_else(|| "the format".to_owned(), |f| f.to_string());
         eprintln!(
-            "csgkit: warning: STL stores positions, not vertices: the manifold split is lost"
+            "csgkit: warning: {name} stores f32: {} of {} coordinates written to {} were rounded",
+            written.rounded_coordinates,
+            3 * mesh.vertex_count(),
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Warns that `--manifold` is lost when the output is STL or glTF, whose readers weld
+/// positions (STL stores no shared vertices, glTF splits them by normal and UV), so the
+/// vertices the split duplicated merge again on reading.
+pub fn warn_if_manifold_lost(manifold: bool, output: &Path) {
+    let format = Format::from_extension(output);
+    if manifold && matches!(format, Some(Format::Stl | Format::Gltf | Format::Glb)) {
+        let name = format.map(|f| f.to_string()).unwrap_or_default();
+        eprintln!(
+            "csgkit: warning: {name} readers weld equal positions: the manifold split is lost"
         );
     }
 }

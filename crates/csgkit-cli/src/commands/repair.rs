@@ -12,15 +12,15 @@ use std::path::PathBuf;
 use clap::Args;
 use csgkit::Operation;
 
-use super::exact::{ExactArgs, FaceArgs, Winding, run as run_exact};
+use super::exact::{ExactArgs, FaceArgs, Winding, run_operands};
 
 /// Arguments of `csgkit repair`.
 #[derive(Args, Debug, Clone)]
 pub struct RepairArgs {
     /// The mesh to repair: closed (every edge used as often in each direction), any format
-    /// csgkit reads.
+    /// csgkit reads (the parts of a 3MF or glTF are repaired as one mesh).
     pub input: PathBuf,
-    /// The output mesh; its extension chooses the format (obj, ply, off, stl).
+    /// The output mesh; its extension chooses the format (obj, ply, off, stl, 3mf, gltf, glb).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Which points are inside: where the winding number is non-zero, or only positive.
@@ -42,13 +42,14 @@ pub fn run(args: &RepairArgs) -> anyhow::Result<()> {
     let exact = ExactArgs {
         inputs: vec![args.input.clone()],
         output: args.output.clone(),
+        merge: true,
         manifold: args.manifold,
         stats: args.stats,
         no_self_check: false,
         winding: args.winding,
         faces: args.faces.clone(),
     };
-    let stats = run_exact(Operation::Union, &exact)?;
+    let stats = run_operands(Operation::Union, &exact, 1)?;
     if !args.stats {
         eprintln!(
             "csgkit: resolved {} crossing triangle pairs{}; wrote {} faces to {}",

@@ -12,4 +12,5 @@ pub mod openscad;
 pub mod scene;
 pub mod tree;
 
-pub use tree::{Affine, CsgError, Evaluation, Flat, IDENTITY, Node, NodeKind, evaluate, flatten};
+pub use crate::mesh::{Affine, IDENTITY};
+pub use tree::{CsgError, Evaluation, Flat, Node, NodeKind, evaluate, flatten};

@@ -22,8 +22,9 @@
 //! - Angles are in degrees with OpenSCAD's exact values at multiples of 30° and 45°.
 
 use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
-use super::tree::{Affine, Node, NodeKind};
+use super::tree::{Node, NodeKind};
 use crate::Operation;
+use crate::mesh::Affine;
 use crate::mesh::Mesh;
 use crate::primitives::{Fragments, circle, cuboid, uv_sphere};
 

@@ -30,9 +30,10 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use super::tree::{Affine, Node, NodeKind};
+use super::tree::{Node, NodeKind};
 use crate::Operation;
 use crate::io::{ReadError, read_mesh};
+use crate::mesh::Affine;
 use crate::mesh::Mesh;
 use crate::ortho::{
     MeshOptions, VoxOptions, box_union, box_union_with_materials, parse_boxes, read_vox,

@@ -13,21 +13,11 @@ use crate::Operation;
 use crate::exact::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, boolean_expression,
 };
-use crate::mesh::{Mesh, MeshParts};
+use crate::mesh::{Affine, IDENTITY, Mesh, compose, transformed};
 use crate::ortho::{MeshOptions, OrthoError, bounded_box, box_union};
 use crate::progress::Progress;
 
 use super::extrude::{ExtrudeError, Extrusion, Profile};
-
-/// An affine map, row-major: `x' = M·x + t` for rows `[m0, m1, m2, t]`.
-pub type Affine = [[f64; 4]; 3];
-
-/// The identity map.
-pub const IDENTITY: Affine = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-];
 
 /// A node of a CSG tree.
 #[derive(Clone, Debug, PartialEq)]
@@ -360,61 +350,15 @@ fn count_operations(node: &Node) -> usize {
     }
 }
 
-/// `outer ∘ inner`: the map that applies `inner`, then `outer`.
-fn compose(outer: Affine, inner: Affine) -> Affine {
-    let mut out = [[0.0; 4]; 3];
-    for (i, row) in out.iter_mut().enumerate() {
-        for (j, value) in row.iter_mut().enumerate() {
-            *value = (0..3).map(|k| outer[i][k] * inner[k][j]).sum::<f64>();
-            if j == 3 {
-                *value += outer[i][3];
-            }
-        }
-    }
-    out
-}
-
 /// `mesh` moved by `transform` (faces reversed where it mirrors) and painted `material`;
 /// `None` when the transform is singular or not finite.
 fn placed(mesh: &Mesh, transform: Affine, material: Option<&str>) -> Option<Mesh> {
-    let m = transform;
-    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    if !det.is_finite() || det == 0.0 || !m.as_flattened().iter().all(|x| x.is_finite()) {
-        return None;
-    }
-    let mut parts: MeshParts = mesh.clone().into_parts();
-    if transform != IDENTITY {
-        for p in &mut parts.positions {
-            *p = [0, 1, 2].map(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + m[i][3]);
-        }
-    }
-    if det < 0.0 {
-        reverse_faces(&mut parts, mesh);
-    }
+    let mut parts = transformed(mesh, &transform)?.into_parts();
     if let Some(name) = material {
         parts.face_materials = Some(vec![0; mesh.face_count()]);
         parts.materials = vec![name.to_owned()];
     }
-    Some(Mesh::from_parts(parts).expect("the same faces over moved positions"))
-}
-
-/// Reverses every face's corner order (and its corner attributes with it).
-fn reverse_faces(parts: &mut MeshParts, mesh: &Mesh) {
-    for f in 0..mesh.face_count() {
-        let range = mesh.face_range(crate::mesh::FaceId::new(f));
-        parts.corners[range.clone()].reverse();
-        if let Some(uvs) = parts.corner_uvs.as_mut() {
-            uvs[range.clone()].reverse();
-        }
-        if let Some(normals) = parts.corner_normals.as_mut() {
-            normals[range.clone()].reverse();
-            for n in &mut normals[range] {
-                *n = n.map(|x| -x);
-            }
-        }
-    }
+    Some(Mesh::from_parts(parts).expect("one material per face"))
 }
 
 #[cfg(test)]

@@ -23,15 +23,15 @@ use super::subdivide::Arrangement;
 /// The output mesh in f64, and which of its vertices need checking.
 pub(crate) struct Rounded {
     pub mesh: Mesh,
-    /// Per vertex: an intersection point rounded to f64, or a corner of a triangle the
-    /// reconstruct stage made (the only faces that may differ from what the exact stages
-    /// decided).
+    /// Per vertex: an intersection point rounded to f64 (the only vertices where the f64 mesh
+    /// may differ from the exact result; the triangles reconstruct made tile the exact result
+    /// too).
     pub moved: Vec<bool>,
     /// How many vertices are intersection points rounded to f64.
     pub rounded: usize,
 }
 
-/// The mesh of the reconstructed triangles, with its rounded and changed vertices marked.
+/// The mesh of the reconstructed triangles, with its rounded vertices marked.
 pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -> Rounded {
     // Used vertices keep their relative order (input vertices, then intersection points), so
     // the numbering is deterministic and every step but the marking runs in parallel.
@@ -54,13 +54,10 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
         .map(|&v| round_point(&arr.point(input, v)).map(|x| x * unscale))
         .collect();
     // An intersection point the split stage simplified to an explicit one is exact.
-    let mut moved: Vec<bool> = (used.par_iter())
+    let moved: Vec<bool> = (used.par_iter())
         .map(|&v| v >= explicit_count && !arr.point(input, v).is_explicit())
         .collect();
     let rounded = moved.iter().filter(|&&m| m).count();
-    for &v in &faces.changed {
-        moved[new_id[v as usize] as usize] = true;
-    }
     let corners: Vec<u32> = (faces.triangles.par_iter())
         .flat_map_iter(|t| t.map(|v| new_id[v as usize]))
         .collect();

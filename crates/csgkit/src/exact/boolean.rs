@@ -228,6 +228,20 @@ pub fn boolean_expression(
             operands.len()
         )));
     }
+    // One hand-over to the thread pool for the whole run: the stages' parallel loops then
+    // start on a worker thread, where rayon splits work onto its own queue, instead of each
+    // loop injecting its job from outside and blocking until a worker wakes (dozens of
+    // thread hand-overs, which cost more than the whole boolean of two small operands).
+    rayon::scope(|_| run_expression(expression, operands, options, progress))
+}
+
+/// [`boolean_expression`] on a worker thread of the pool.
+fn run_expression(
+    expression: &Expression,
+    operands: &[&Mesh],
+    options: &BooleanOptions,
+    progress: &Progress,
+) -> Result<Boolean, BooleanError> {
     let mut stats = BooleanStats::default();
     let mut clock = StageClock::new(progress);
     let mut rounded = exact_result(

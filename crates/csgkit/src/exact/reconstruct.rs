@@ -31,6 +31,10 @@
 //!   (exact `orient2d`); then the new fan tiles the old one exactly (its winding number is one
 //!   on the old fan, and no triangle is negative).
 //!
+//! So the new triangles are part of an exact tiling of the result like the arrangement's own:
+//! where all their corners are f64 numbers they cross nothing, and where one is rounded, that
+//! corner is marked for certification like any rounded point. They need no check of their own.
+//!
 //! Of the two neighbours, the collapse keeps the fan whose worst triangle is fattest (an f64
 //! shape measure: a choice, not a decision), so needles are avoided where there is a choice.
 //! Input vertices are removed only with coplanar merging, where faces from different sources
@@ -62,9 +66,6 @@ pub(crate) struct Reconstructed {
     pub triangles: Vec<[u32; 3]>,
     /// Per triangle: the provenance of the face it belongs to.
     pub provenance: Vec<Provenance>,
-    /// Vertices of the triangles this stage made, sorted: the exact stages never saw those
-    /// triangles, so the rounded result is checked around them as around rounded points.
-    pub changed: Vec<u32>,
     /// Intersection points removed.
     pub removed_vertices: usize,
 }
@@ -127,16 +128,12 @@ pub(crate) fn reconstruct(
             out_source.push(s);
         }
     }
-    let mut changed = Vec::new();
     for l in 0..fans.triangles.len() {
         if fans.alive[l] && fans.origin[l].is_none() {
             out_triangles.push(fans.triangles[l]);
             out_source.push(fans.source[l]);
-            changed.extend(fans.triangles[l]);
         }
     }
-    changed.sort_unstable();
-    changed.dedup();
     let roots = faces.roots();
     let provenance = (out_source.par_iter())
         .map(|&t| faces.provenance(input, roots.as_deref(), t))
@@ -144,7 +141,6 @@ pub(crate) fn reconstruct(
     Reconstructed {
         triangles: out_triangles,
         provenance,
-        changed,
         removed_vertices,
     }
 }

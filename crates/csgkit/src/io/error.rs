@@ -41,7 +41,10 @@ pub enum ParseError {
         format: Format,
     },
     /// The content matches no supported format.
-    #[error("unknown format: the extension and the content match none of OBJ, STL, PLY, OFF")]
+    #[error(
+        "unknown format: the extension and the content match none of OBJ, STL, PLY, OFF, 3MF, \
+         glTF, GLB"
+    )]
     UnknownFormat,
     /// A vertex coordinate is NaN or infinite.
     #[error("{at}: vertex {vertex} has a non-finite coordinate {value}")]
@@ -125,6 +128,32 @@ pub enum ParseError {
         /// Why it is rejected.
         reason: &'static str,
     },
+    /// A file of parts (3MF, glTF) breaks its specification, in a way no line or byte offset
+    /// locates (the element is named by [`ParseError::In`] around it).
+    #[error("malformed {format} file: {reason}")]
+    Structure {
+        /// The format the file was read as.
+        format: Format,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A file of parts (3MF, glTF) uses a feature csgkit does not read.
+    #[error("unsupported {format} feature: {feature}")]
+    Feature {
+        /// The format the file was read as.
+        format: Format,
+        /// The feature.
+        feature: String,
+    },
+    /// An error inside one part or element of a file of parts: the 3MF part and object, the
+    /// glTF element (`meshes[0].primitives[1]`).
+    #[error("{element}: {error}")]
+    In {
+        /// Where: the part, the element, the object.
+        element: String,
+        /// What is wrong there.
+        error: Box<ParseError>,
+    },
     /// The assembled mesh breaks a mesh invariant (in practice: a `u32` size limit).
     #[error("the file's mesh is invalid: {0}")]
     Invalid(#[from] InvalidMesh),
@@ -179,7 +208,10 @@ pub enum WriteError {
         source: std::io::Error,
     },
     /// The extension names no supported format and no format was given.
-    #[error("cannot write {}: unknown extension (use .obj, .stl, .ply or .off)", .path.display())]
+    #[error(
+        "cannot write {}: unknown extension (use .obj, .stl, .ply, .off, .3mf, .gltf or .glb)",
+        .path.display()
+    )]
     UnknownFormat {
         /// The destination file.
         path: PathBuf,
@@ -219,5 +251,13 @@ pub(crate) fn malformed(format: Format, at: Location, reason: impl Into<String>)
         format,
         reason: reason.into(),
         at,
+    }
+}
+
+/// `error` inside `element` ([`ParseError::In`]).
+pub(crate) fn within(element: impl Into<String>, error: ParseError) -> ParseError {
+    ParseError::In {
+        element: element.into(),
+        error: Box::new(error),
     }
 }

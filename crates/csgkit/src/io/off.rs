@@ -4,12 +4,16 @@
 //! coordinates), `N` (vertex normals, skipped) and `ST` (texture coordinates, skipped); the
 //! counts `vertices faces [edges]` may follow on the same line. Each face line is a corner count,
 //! the indices, and an optional colour: 3 or 4 integers 0–255, or floats 0–1 when a value has a
-//! decimal point. `#` starts a comment anywhere. Binary OFF and the `4OFF`/`nOFF` dimensions are
-//! not supported. Records are read one per line, as every OFF writer in use emits them.
+//! decimal point. `#` starts a comment anywhere. `OFF BINARY` (Geomview's binary form,
+//! big-endian) is read by [`binary`]; the `4OFF`/`nOFF` dimensions are not supported. Records
+//! are read one per line, as every OFF writer in use emits them.
 //!
 //! No crate reads OFF with colours and error locations, so this reader is hand-written.
 //! The writer emits `OFF` (`COFF` with vertex colours) and integer RGBA face colours; materials,
-//! groups, UVs, normals and provenance are not written.
+//! groups, UVs, normals and provenance are not written. It writes text only: few programs read
+//! binary OFF, and binary is [`Encoding`]'s default, so every `.off` output would become one.
+
+mod binary;
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};
@@ -93,12 +97,12 @@ pub(crate) fn read(data: &[u8]) -> Result<LoadedMesh, ParseError> {
         return Err(malformed(Format::Off, at, "expected an OFF header"));
     };
     if tokens.clone().next() == Some(b"BINARY") {
-        let feature = "binary OFF".to_owned();
-        return Err(ParseError::Unsupported {
-            format: Format::Off,
-            feature,
-            at,
-        });
+        let layout = binary::VertexLayout {
+            colors,
+            normals,
+            texture,
+        };
+        return binary::read(data, data.len() - records.lines.rest().len(), &layout);
     }
     let (at, counts) = match tokens.clone().next() {
         Some(_) => (at, tokens),

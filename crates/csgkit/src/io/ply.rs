@@ -5,7 +5,8 @@
 //! `vertex_index`) list with any count and index types, a `material_index` (or `material_id`,
 //! `material`) number and a face colour. Every other element and property, lists included,
 //! is skipped. Material numbers become ids into names `material_N`, sorted by `N`.
-//! The `vertex` element must precede `face`, as in every PLY writer in use.
+//! The elements may come in any order (a few writers put `face` first): face indices are
+//! checked against the count the header gives the `vertex` element.
 //!
 //! Every PLY scalar type (at most 32-bit integers, `float`, `double`) is exact in f64, so one
 //! value path serves all types. Header counts are checked against the body's size before any
@@ -297,7 +298,8 @@ fn read_body<S: Source>(header: &Header, mut src: S) -> Result<(Mesh, usize), Pa
             }
             "face" if !seen_face => {
                 seen_face = true;
-                read_faces(&mut src, element, &mut builder, &mut materials)?;
+                let vertices = count("vertex");
+                read_faces(&mut src, element, vertices, &mut builder, &mut materials)?;
             }
             // An element without properties takes no byte, whatever its count.
             _ if element.properties.is_empty() => {}
@@ -399,6 +401,7 @@ fn face_role(property: &Property) -> Role {
 fn read_faces<S: Source>(
     src: &mut S,
     element: &Element,
+    vertices: usize,
     builder: &mut MeshBuilder,
     materials: &mut Vec<f64>,
 ) -> Result<(), ParseError> {
@@ -419,7 +422,9 @@ fn read_faces<S: Source>(
         let mut source = [0u32; 2];
         for (property, role) in element.properties.iter().zip(&roles) {
             match *role {
-                Role::Indices => read_indices(src, property, face, builder, &mut scratch)?,
+                Role::Indices => {
+                    read_indices(src, property, face, vertices, builder, &mut scratch)?
+                }
                 Role::Material => materials.push(src.value(property.item)?),
                 Role::Color(k) => {
                     color[k] = channel(src.value(property.item)?, property.item.is_float())
@@ -453,6 +458,7 @@ fn read_indices<S: Source>(
     src: &mut S,
     property: &Property,
     face: usize,
+    vertices: usize,
     builder: &mut MeshBuilder,
     scratch: &mut Vec<i64>,
 ) -> Result<(), ParseError> {
@@ -465,7 +471,7 @@ fn read_indices<S: Source>(
     }
     scratch.clear();
     src.integers(property.item, corners, scratch)?;
-    let count = builder.vertex_count();
+    let count = vertices;
     if let Some(&index) = scratch.iter().find(|&&i| i < 0 || i >= count as i64) {
         let what = "vertex";
         return Err(ParseError::IndexOutOfRange {
@@ -476,7 +482,7 @@ fn read_indices<S: Source>(
             at,
         });
     }
-    // Every index is in 0..vertex_count, which the builder keeps within u32.
+    // Every index is below the vertex element's count, which `read` bounded by the file size.
     builder.push_corners(scratch.iter().map(|&i| i as u32));
     Ok(())
 }

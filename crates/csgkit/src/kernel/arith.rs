@@ -1,6 +1,7 @@
-//! The three number types of the predicate cascade behind one trait, so that each polynomial
-//! is written once: [`Interval`] (filter), [`Expansion`] (exact while no product underflows or
-//! overflows) and [`Big`] (exact big integers, for every finite input).
+//! The four number types of the predicate cascade behind one trait, so that each polynomial
+//! is written once: [`Interval`] (filter), [`Wide`] (128-bit integers, exact while no
+//! operation overflows), [`Expansion`] (exact while no product underflows or overflows) and
+//! [`Big`] (exact big integers, for every finite input).
 
 use num_bigint::BigInt;
 
@@ -73,6 +74,57 @@ impl Arith for Big {
             num_bigint::Sign::NoSign => Sign::Zero,
             num_bigint::Sign::Plus => Sign::Positive,
         })
+    }
+}
+
+/// An exact integer in 128 bits, scaled like [`Big`] (an input f64 times `2^-e_min`), or
+/// `None` once an operation overflowed, which makes every later result `None`: the stage then
+/// cannot tell and the cascade moves on. Inputs on a coarse grid (integer coordinates, or
+/// binary fractions of a few bits, as in box unions, voxel models and most CAD parts) have
+/// few significant bits between their largest magnitude and their lowest set bit, so a
+/// predicate's polynomial fits, and one multiplication costs what an expansion's
+/// two-product costs, with no growth and no allocation.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Wide(Option<i128>);
+
+impl Arith for Wide {
+    #[inline]
+    fn add(&self, o: &Self) -> Self {
+        Wide(self.0.zip(o.0).and_then(|(a, b)| a.checked_add(b)))
+    }
+    #[inline]
+    fn sub(&self, o: &Self) -> Self {
+        Wide(self.0.zip(o.0).and_then(|(a, b)| a.checked_sub(b)))
+    }
+    #[inline]
+    fn mul(&self, o: &Self) -> Self {
+        Wide(self.0.zip(o.0).and_then(|(a, b)| a.checked_mul(b)))
+    }
+    #[inline]
+    fn sign(&self) -> Option<Sign> {
+        self.0.map(|v| match v.cmp(&0) {
+            std::cmp::Ordering::Less => Sign::Negative,
+            std::cmp::Ordering::Equal => Sign::Zero,
+            std::cmp::Ordering::Greater => Sign::Positive,
+        })
+    }
+}
+
+impl Wide {
+    /// The constant 1 (the `W` of an explicit point; not scaled).
+    pub(crate) const ONE: Wide = Wide(Some(1));
+
+    /// `x * 2^-e_min` as an integer, `None` when it does not fit in 126 bits; `e_min` must not
+    /// exceed the exponent of `x`'s lowest bit.
+    #[inline]
+    pub(crate) fn scaled(x: f64, e_min: i32) -> Self {
+        let (m, e) = decompose(x);
+        if m == 0 {
+            return Wide(Some(0));
+        }
+        let shift = e - e_min;
+        // |m| < 2^53, so a shift of at most 73 stays below 2^126.
+        Wide((shift <= 73).then(|| i128::from(m) << shift))
     }
 }
 
@@ -155,6 +207,20 @@ mod tests {
         assert_eq!(exponent(3.9), 1);
         assert_eq!(exponent(f64::MAX), 1023);
         assert_eq!(exponent(f64::from_bits(1)), -1074);
+    }
+
+    #[test]
+    fn wide_integers_are_exact_until_they_overflow() {
+        let x = Wide::scaled(0.75, -2);
+        assert_eq!(x.0, Some(3));
+        assert_eq!(Wide::scaled(-6.0, 1).0, Some(-3));
+        assert_eq!(Wide::scaled(0.0, -1074).0, Some(0));
+        assert_eq!(Wide::scaled(1.0, -74).0, None);
+        let big = Wide(Some(1 << 100));
+        assert_eq!(big.mul(&Wide(Some(1 << 26))).sign(), Some(Sign::Positive));
+        assert_eq!(big.mul(&Wide(Some(1 << 27))).sign(), None);
+        assert_eq!(big.mul(&big).sub(&big).sign(), None, "overflow is sticky");
+        assert_eq!(x.sub(&Wide(Some(3))).sign(), Some(Sign::Zero));
     }
 
     #[test]

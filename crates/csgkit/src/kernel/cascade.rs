@@ -1,17 +1,18 @@
-//! The cascade that decides every predicate: interval filter, then floating-point
-//! expansions, then big integers, stopping at the first stage that decides (see the
-//! [module docs](super) for the numeric model).
+//! The cascade that decides every predicate: interval filter, then 128-bit integers where the
+//! inputs have few significant bits, then floating-point expansions, then big integers,
+//! stopping at the first stage that decides (see the [module docs](super) for the numeric
+//! model).
 //!
 //! A predicate is a [`Formula`]: one generic polynomial in the homogeneous coordinates of some
 //! points and in some explicit coordinates, written once over [`Arith`] and evaluated in
-//! [`Interval`]s (from the points' cached coordinates, no allocation), then in [`Expansion`]s,
-//! then in big integers ([`Big`]).
+//! [`Interval`]s (from the points' cached coordinates, no allocation), then in 128-bit
+//! integers ([`Wide`]), then in [`Expansion`]s, then in big integers ([`Big`]).
 //!
 //! The cascade sees points only through [`Homogeneous`], so it sits below the point types:
 //! `implicit` builds a point by deciding the sign of its `W` here, and `formulas` and
 //! `predicates` above it write their polynomials on those points.
 
-use super::arith::{Arith, Big, decompose, exponent, scaled_expansion};
+use super::arith::{Arith, Big, Wide, decompose, exponent, scaled_expansion};
 use super::expansion::Expansion;
 use super::interval::Interval;
 use super::{Sign, expansion_top_exponent};
@@ -53,13 +54,33 @@ pub(crate) fn decide(f: &impl Formula) -> Sign {
     }
 }
 
-/// Stages 2 and 3 of the cascade.
+/// Stages 2–4 of the cascade.
 fn decide_exact(f: &impl Formula) -> Sign {
     let (top, e_low) = scan(f);
+    if let Some(s) = integer_stage(f, top, e_low) {
+        return s;
+    }
     match expansion_stage(f, top) {
         Some(s) => s,
         None => big_stage(f, e_low),
     }
+}
+
+/// The bits a scaled input may have for [`integer_stage`] to try, times the degree: a product
+/// of `degree` such inputs then fits in 128 bits with a few bits left for the sums of terms
+/// (an overflow there is caught, and the next stage decides).
+const WIDE_PRODUCT_BITS: i32 = 120;
+
+/// Stage 2: 128-bit integers, after scaling every input by `2^-e_low` (exact; the polynomial
+/// is homogeneous, so the sign is unchanged), when the inputs' bit span times the degree
+/// fits; `None` when it does not or an operation overflowed.
+fn integer_stage(f: &impl Formula, top: i32, e_low: i32) -> Option<Sign> {
+    let span = top - e_low + 1;
+    if span.saturating_mul(f.degree().max(1) as i32) > WIDE_PRODUCT_BITS {
+        return None;
+    }
+    let conv = |x: f64| Wide::scaled(x, e_low);
+    f.eval::<Wide>(&|p| p.hom(&conv, &Wide::ONE), &conv).sign()
 }
 
 /// The exponent of the largest input magnitude and the exponent of the lowest set bit over
@@ -83,7 +104,7 @@ fn scan(f: &impl Formula) -> (i32, i32) {
     }
 }
 
-/// Stage 2: expansions after scaling the largest input to `2^T` (see
+/// Stage 3: expansions after scaling the largest input to `2^T` (see
 /// [`expansion_bit_span`](super::expansion_bit_span)); `None` if a product may have
 /// underflowed.
 fn expansion_stage(f: &impl Formula, top: i32) -> Option<Sign> {
@@ -93,7 +114,7 @@ fn expansion_stage(f: &impl Formula, top: i32) -> Option<Sign> {
     f.eval::<Expansion>(&|p| p.hom(&conv, &one), &conv).sign()
 }
 
-/// Stage 3: big integers, exact for every finite input.
+/// Stage 4: big integers, exact for every finite input.
 fn big_stage(f: &impl Formula, e_low: i32) -> Sign {
     let conv = |x: f64| Big::scaled(x, e_low);
     let one = Big::one();
@@ -102,12 +123,18 @@ fn big_stage(f: &impl Formula, e_low: i32) -> Sign {
         .expect("big integers always decide")
 }
 
-/// What each stage of the cascade answers on its own: filter, expansions, big integers.
+/// What each stage of the cascade answers on its own: filter, 128-bit integers, expansions,
+/// big integers.
 #[cfg(test)]
-pub(crate) fn stages(f: &impl Formula) -> [Option<Sign>; 3] {
+pub(crate) fn stages(f: &impl Formula) -> [Option<Sign>; 4] {
     let filter = f
         .eval::<Interval>(&|p| p.filter_hom(), &Interval::exact)
         .sign();
     let (top, e_low) = scan(f);
-    [filter, expansion_stage(f, top), Some(big_stage(f, e_low))]
+    [
+        filter,
+        integer_stage(f, top, e_low),
+        expansion_stage(f, top),
+        Some(big_stage(f, e_low)),
+    ]
 }

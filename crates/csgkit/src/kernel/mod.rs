@@ -65,16 +65,22 @@
 //! 1. **Filter** — interval arithmetic with outward rounding (`interval.rs`): sound for every
 //!    finite input, including overflow (fails safe to "undecided") and gradual underflow.
 //!    Implicit points cache their interval coordinates, so the filter does not allocate.
-//! 2. **Expansions** — Shewchuk's exact floating-point expansions (`expansion.rs`), after
+//! 2. **128-bit integers** — when every input of the call is an integer times `2^e_min` with
+//!    few significant bits (the bit span below, times the degree, at most 120: integer
+//!    coordinates, binary fractions, box unions, voxel models, most CAD parts), the polynomial
+//!    is evaluated in `i128` with checked operations (`arith.rs`, `Wide`); an overflow leaves
+//!    it undecided. This is the fixed-width integer predicate of EMBER (Trettner et al. 2022),
+//!    chosen per call from the inputs instead of by a global grid, so nothing is rounded.
+//! 3. **Expansions** — Shewchuk's exact floating-point expansions (`expansion.rs`), after
 //!    scaling all inputs of the call by one power of two (exact; the polynomial is homogeneous,
 //!    so the sign is unchanged). Exact unless a product underflows, which is detected.
-//! 3. **Big integers** — every input is an integer times `2^e_min`; evaluation in `num-bigint`
+//! 4. **Big integers** — every input is an integer times `2^e_min`; evaluation in `num-bigint`
 //!    is exact for every finite input.
 //!
 //! # Layout
 //! The files depend on each other in one direction, bottom to top:
-//! - `interval.rs`, `expansion.rs`, `arith.rs`: the three number types behind one trait;
-//! - `cascade.rs`: stages 1–3 for any `Formula`, a polynomial over points it sees only as
+//! - `interval.rs`, `expansion.rs`, `arith.rs`: the four number types behind one trait;
+//! - `cascade.rs`: stages 1–4 for any `Formula`, a polynomial over points it sees only as
 //!   homogeneous coordinates;
 //! - `implicit.rs`: [`Point`], [`Lpi`], [`Tpi`], built by deciding the sign of `W` in the
 //!   cascade;
@@ -89,11 +95,11 @@
 //! tens of microseconds (big integers, rare: wide bit spans or degree above 20).
 //!
 //! # Valid input range
-//! Every finite f64 ([`MAX_ALLOWED_VALUE`]): stages 1 and 3 have no range limit. NaN and
+//! Every finite f64 ([`MAX_ALLOWED_VALUE`]): stages 1 and 4 have no range limit. NaN and
 //! infinity are a precondition violation (ingest rejects them); a debug assertion checks.
-//! Stage 2 is guaranteed to decide when the *bit span* of the call's inputs — the exponent of
+//! Stage 3 is guaranteed to decide when the *bit span* of the call's inputs — the exponent of
 //! the largest magnitude minus the exponent of the lowest set bit of any nonzero input — is at
-//! most [`expansion_bit_span`]`(degree)`; beyond, stage 3 decides, slower but still exact. See
+//! most [`expansion_bit_span`]`(degree)`; beyond, stage 4 decides, slower but still exact. See
 //! [`expansion_bit_span`] for the derivation and [`MAX_DEGREE`] for the highest degree.
 //!
 //! # Sign conventions

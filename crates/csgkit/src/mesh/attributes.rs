@@ -5,7 +5,7 @@
 use super::vector::{dot, triangle_normal};
 use rustc_hash::FxHashMap;
 
-use super::{FaceId, Mesh, MeshParts, Rgba, triangulate_faces_partial};
+use super::{FaceId, InvalidMesh, Mesh, MeshParts, Rgba, triangulate_faces_partial};
 
 /// The colour of elements that have none when others do.
 pub(crate) const WHITE: Rgba = [255, 255, 255, 255];
@@ -293,6 +293,107 @@ fn merged_names<'a>(
     (Some(ids), names.into_names())
 }
 
+/// The meshes as one: vertices and faces one mesh after the other, as the readers of files
+/// that hold several parts (3MF build items, glTF nodes) merge them.
+///
+/// Each attribute is present when any mesh has it; faces of meshes without it get the
+/// material or group `"default"`, white, UV `[0, 0]` or normal `[0, 0, 0]`, as the readers
+/// fill attributes a file gives only some elements. Name tables are merged by name, material
+/// libraries kept once each; provenance is dropped, since it names faces of the parts.
+///
+/// # Errors
+/// [`InvalidMesh`] when the result passes the `u32` limits on vertices or corners.
+pub fn concatenate(meshes: &[Mesh]) -> Result<Mesh, InvalidMesh> {
+    let any = |has: fn(&MeshParts) -> bool| meshes.iter().any(|m| has(m.parts()));
+    fn start<T>(has: bool) -> Option<Vec<T>> {
+        has.then(Vec::new)
+    }
+    let mut out = MeshParts {
+        face_starts: (!meshes.iter().all(Mesh::is_triangle_mesh)).then(|| vec![0]),
+        face_materials: start(any(|p| p.face_materials.is_some())),
+        face_groups: start(any(|p| p.face_groups.is_some())),
+        face_colors: start(any(|p| p.face_colors.is_some())),
+        corner_uvs: start(any(|p| p.corner_uvs.is_some())),
+        corner_normals: start(any(|p| p.corner_normals.is_some())),
+        vertex_colors: start(any(|p| p.vertex_colors.is_some())),
+        ..MeshParts::default()
+    };
+    let (mut materials, mut groups) = (Names::default(), Names::default());
+    for mesh in meshes {
+        let p = mesh.parts();
+        let offset = u32::try_from(out.positions.len()).map_err(|_| InvalidMesh::TooLarge {
+            what: "vertices",
+            count: out.positions.len(),
+        })?;
+        out.positions.extend_from_slice(&p.positions);
+        out.corners
+            .extend(p.corners.iter().map(|&v| v.wrapping_add(offset)));
+        if let Some(starts) = out.face_starts.as_mut() {
+            for face in mesh.faces() {
+                let last = starts[starts.len() - 1];
+                starts.push(last.wrapping_add(face.len() as u32));
+            }
+        }
+        let faces = mesh.face_count();
+        let named = |ids: Option<&[u32]>, names: &[String], table: &mut Names| match ids {
+            Some(ids) => ids
+                .iter()
+                .map(|&id| table.id(&names[id as usize]))
+                .collect(),
+            None => vec![table.id(DEFAULT_NAME); faces],
+        };
+        if let Some(ids) = out.face_materials.as_mut() {
+            ids.extend(named(
+                p.face_materials.as_deref(),
+                &p.materials,
+                &mut materials,
+            ));
+        }
+        if let Some(ids) = out.face_groups.as_mut() {
+            ids.extend(named(p.face_groups.as_deref(), &p.groups, &mut groups));
+        }
+        extend(&mut out.face_colors, p.face_colors.as_deref(), WHITE, faces);
+        let corners = mesh.corner_count();
+        extend(
+            &mut out.corner_uvs,
+            p.corner_uvs.as_deref(),
+            [0.0; 2],
+            corners,
+        );
+        extend(
+            &mut out.corner_normals,
+            p.corner_normals.as_deref(),
+            [0.0; 3],
+            corners,
+        );
+        let vertices = mesh.vertex_count();
+        extend(
+            &mut out.vertex_colors,
+            p.vertex_colors.as_deref(),
+            WHITE,
+            vertices,
+        );
+        for library in &p.material_libraries {
+            if !out.material_libraries.contains(library) {
+                out.material_libraries.push(library.clone());
+            }
+        }
+    }
+    out.materials = materials.into_names();
+    out.groups = groups.into_names();
+    Mesh::from_parts(out)
+}
+
+/// Appends `values`, or `n` copies of `default`, to a buffer that exists.
+fn extend<T: Copy>(out: &mut Option<Vec<T>>, values: Option<&[T]>, default: T, n: usize) {
+    if let Some(out) = out {
+        match values {
+            Some(values) => out.extend_from_slice(values),
+            None => out.extend(std::iter::repeat_n(default, n)),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -349,5 +450,34 @@ mod tests {
     fn a_mesh_without_provenance_is_unchanged() {
         let a = with_materials(triangle(), vec![0, 1], &["green", "red"]);
         assert_eq!(inherit_attributes(triangle(), &[&a]), triangle());
+    }
+
+    #[test]
+    fn concatenation_fills_missing_attributes_and_merges_names() {
+        let triangle = |material: Option<&str>, color: Option<Rgba>| {
+            Mesh::from_parts(MeshParts {
+                positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                corners: vec![0, 1, 2],
+                face_materials: material.map(|_| vec![0]),
+                materials: material.into_iter().map(str::to_owned).collect(),
+                face_colors: color.map(|c| vec![c]),
+                ..MeshParts::default()
+            })
+            .unwrap()
+        };
+        let red = [255, 0, 0, 255];
+        let parts = [
+            triangle(Some("stone"), None),
+            triangle(None, Some(red)),
+            triangle(Some("stone"), None),
+        ];
+        let mesh = concatenate(&parts).unwrap();
+        assert_eq!(mesh.vertex_count(), 9);
+        assert_eq!(mesh.corners(), &[0, 1, 2, 3, 4, 5, 6, 7, 8]);
+        assert_eq!(mesh.materials(), ["stone", "default"]);
+        assert_eq!(mesh.face_materials(), Some(&[0, 1, 0][..]));
+        assert_eq!(mesh.face_colors(), Some(&[WHITE, red, WHITE][..]));
+        assert!(mesh.face_provenance().is_none());
+        assert_eq!(concatenate(&parts[..1]).unwrap(), parts[0]);
     }
 }

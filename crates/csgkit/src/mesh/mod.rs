@@ -53,13 +53,14 @@ mod report;
 #[cfg(test)]
 mod test_meshes;
 mod topology;
+mod transform;
 pub mod triangulate;
 pub(crate) mod union_find;
 mod validation;
 pub(crate) mod vector;
 mod weld;
 
-pub use attributes::inherit_attributes;
+pub use attributes::{concatenate, inherit_attributes};
 pub use degenerate::{
     DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape,
     opposite_triangle_pairs,
@@ -70,6 +71,7 @@ pub use measures::{BoundingBox, Measures, bounding_box, measure};
 pub use merge_faces::{FaceMode, merge_faces};
 pub use report::{MeshReport, analyze};
 pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
+pub use transform::{Affine, IDENTITY, compose, transformed};
 pub use triangulate::{
     Overlap, PolygonError, Triangulation, triangulate_faces, triangulate_faces_partial,
 };

@@ -98,3 +98,77 @@ fn errors_are_exact() {
 fn face_free_files_are_empty_meshes() {
     assert!(read_str("OFF\n0 0 0\n").unwrap().is_empty());
 }
+
+/// A binary OFF file (Geomview's `OFF BINARY`): big-endian counts, floats and indices.
+fn binary_off(faces: &[&[i32]], color: &[f32]) -> Vec<u8> {
+    let mut data = b"# a comment\nCOFF BINARY\n".to_vec();
+    for n in [4, faces.len() as i32, 0] {
+        data.extend_from_slice(&n.to_be_bytes());
+    }
+    for p in [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.25],
+    ] {
+        for c in p.into_iter().chain([1.0, 0.0, 0.0, 1.0]) {
+            data.extend_from_slice(&c.to_be_bytes());
+        }
+    }
+    for face in faces {
+        data.extend_from_slice(&(face.len() as i32).to_be_bytes());
+        for v in *face {
+            data.extend_from_slice(&v.to_be_bytes());
+        }
+        data.extend_from_slice(&(color.len() as i32).to_be_bytes());
+        for c in color {
+            data.extend_from_slice(&c.to_be_bytes());
+        }
+    }
+    data
+}
+
+#[test]
+fn binary_off_reads_big_endian_polygons_and_colours() {
+    let loaded = read(&binary_off(&[&[0, 1, 2, 3]], &[0.0, 0.5, 1.0])).unwrap();
+    assert_eq!(loaded.encoding, Encoding::Binary);
+    let mesh = loaded.mesh;
+    assert_eq!(mesh.face(FaceId::new(0)), &[0, 1, 2, 3]);
+    assert_eq!(mesh.positions()[3], [0.0, 1.0, 0.25]);
+    assert_eq!(mesh.vertex_colors().unwrap()[0], [255, 0, 0, 255]);
+    assert_eq!(mesh.face_colors().unwrap(), &[[0, 128, 255, 255]]);
+    assert!(super::has_header(&binary_off(&[], &[])));
+}
+
+#[test]
+fn binary_off_errors_are_exact() {
+    let data = binary_off(&[&[0, 1, 4]], &[]);
+    // Header (24 bytes) + counts (12) + 4 vertices of 7 floats (112): the face starts at 148,
+    // its third index at 160.
+    assert_eq!(
+        read(&data),
+        Err(ParseError::IndexOutOfRange {
+            face: 0,
+            what: "vertex",
+            index: 4,
+            count: 4,
+            at: Location::Byte(160)
+        })
+    );
+    let data = binary_off(&[&[0, 1, 3]], &[]);
+    let cut = data.len() - 2;
+    assert_eq!(
+        read(&data[..cut]),
+        Err(ParseError::Truncated {
+            what: "binary OFF faces",
+            expected: data.len(),
+            actual: cut
+        })
+    );
+    let mut huge = data.clone();
+    huge[24..28].copy_from_slice(&i32::MAX.to_be_bytes());
+    assert!(matches!(
+        read(&huge),
+        Err(ParseError::CountTooLarge { what: "vertex", .. })
+    ));
+}

@@ -147,3 +147,24 @@ fn face_free_files_are_empty_meshes() {
         property float z\nend_header\n";
     assert!(read(text.as_bytes()).unwrap().mesh.is_empty());
 }
+
+#[test]
+fn the_face_element_may_precede_the_vertex_element() {
+    let text = "ply\nformat ascii 1.0\nelement face 2\nproperty list uchar int vertex_indices\n\
+        element vertex 4\nproperty double x\nproperty double y\nproperty double z\nend_header\n\
+        3 0 1 2\n3 0 2 3\n0 0 0\n1 0 0\n1 1 0\n0 1 0.5\n";
+    let mesh = read(text.as_bytes()).unwrap().mesh;
+    assert_eq!(mesh.corners(), &[0, 1, 2, 0, 2, 3]);
+    assert_eq!(mesh.positions()[3], [0.0, 1.0, 0.5]);
+    let bad = text.replace("3 0 2 3\n", "3 0 2 4\n");
+    assert_eq!(
+        read(bad.as_bytes()),
+        Err(ParseError::IndexOutOfRange {
+            face: 1,
+            what: "vertex",
+            index: 4,
+            count: 4,
+            at: Location::Line(11)
+        })
+    );
+}
