@@ -81,7 +81,9 @@ fn parts_formats(c: &mut Criterion, dir: &Path) {
         eprintln!("{name} as {extension}: {} bytes", bytes.len());
         group.throughput(Throughput::Bytes(bytes.len() as u64));
         group.bench_function(format!("write/{extension}/{}", mesh.face_count()), |b| {
-            b.iter(|| csgkit::write_mesh_to_bytes(&mesh, format, Encoding::Binary).expect("writes"));
+            b.iter(|| {
+                csgkit::write_mesh_to_bytes(&mesh, format, Encoding::Binary).expect("writes")
+            });
         });
         group.bench_function(format!("read/{extension}/{}", mesh.face_count()), |b| {
             b.iter(|| csgkit::read_mesh_from_bytes(&bytes, Some(format)).expect("reads"));

@@ -102,10 +102,7 @@ fn layout<'b>(
             "byteStride {stride} is less than its element size {size}"
         )));
     }
-    let view_end = view
-        .offset()
-        .checked_add(view.length())
-        .unwrap_or(usize::MAX);
+    let view_end = view.offset().saturating_add(view.length());
     if view_end > buffer.len() {
         return Err(fail(format!(
             "bufferViews[{}] ends at byte {view_end}, past the end of buffers[{}] ({} bytes)",
