@@ -9,13 +9,6 @@ mod progress;
 
 use std::process::ExitCode;
 
-/// mimalloc instead of the system allocator: the library's worker threads allocate from
-/// per-thread heaps without the first-touch cost of a new glibc arena per thread, and the
-/// exact stages' many small, short-lived buffers (expansions, per-triangle point lists) are
-/// served faster.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn main() -> ExitCode {
     // The library's thread pool starts while the inputs are read, as in a long-lived program
     // that calls the library many times, so no operation's time includes starting threads.

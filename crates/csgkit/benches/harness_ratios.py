@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""csgkit against the fastest correct peer, case by case, from one peers-harness run.
+
+    ../shared/peers/.venv/bin/python bench.py run --csgkit target/release/csgkit \
+        --peers csgkit,manifold3d,trueform,meshlib --results-dir RUN      # in ../shared/peers
+    ../shared/peers/.venv/bin/python crates/csgkit/benches/harness_ratios.py \
+        --peers-dir ../shared/peers --results RUN --plot crates/csgkit/benches/scaling.png
+
+Correctness is the harness's own judgement (its `annotate`: valid, and the volume within 1e-4
+of the reference). Ratio = csgkit's op time / the fastest correct peer's op time, medians of
+the timed runs. Prints one Markdown table per family and the geometric mean over every
+boolean case where csgkit and a peer are correct; with --plot, op time against input
+triangles for the sphere_sphere_union and menger families, every peer on one log-log plot,
+with the growth exponent of each (least squares on the logs). matplotlib: pip install it into
+the same venv.
+"""
+import argparse
+import math
+import os
+import sys
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--peers-dir", required=True)
+    ap.add_argument("--results", required=True, help="the run's --results-dir")
+    ap.add_argument("--plot", help="write the scaling plot to this PNG")
+    args = ap.parse_args()
+    plot_path = os.path.abspath(args.plot) if args.plot else None
+    sys.path.insert(0, os.path.abspath(args.peers_dir))
+    os.chdir(args.peers_dir)
+    import bench  # the harness's own loading and correctness rules
+
+    bench.set_results_dir(os.path.abspath(args.results))
+    results = bench.load_results()
+    bench.annotate(results)
+    rows, ratios = {}, []
+    for name, by_peer in results["results"].items():
+        meta = results["cases"].get(name, {})
+        if meta.get("family", "").startswith("voxelize"):
+            continue
+        ours = by_peer.get("csgkit")
+        peers = {p: r for p, r in by_peer.items() if p not in ("csgkit", "csgkit-boxes") and r.get("correct")}
+        best = min(peers.items(), key=lambda kv: kv[1]["op_s"], default=None)
+        ok = bool(ours and ours.get("correct"))
+        ratio = ours["op_s"] / best[1]["op_s"] if ok and best else None
+        if ratio is not None:
+            ratios.append(ratio)
+        rows.setdefault(meta.get("family", "?"), []).append((meta.get("column", name), name, ours, best, ok, ratio))
+    for family, entries in sorted(rows.items()):
+        print(f"\n#### {family}\n")
+        print("| case | csgkit | fastest correct peer | ratio |\n|---|---|---|---|")
+        for column, name, ours, best, ok, ratio in sorted(entries, key=lambda e: e[1]):
+            mine = "—" if not ours else f"{bench.fmt_t(ours.get('op_s'))} {'✔' if ok else '⚠ ' + ours.get('status', '')}"
+            theirs = f"{best[0]} {bench.fmt_t(best[1]['op_s'])}" if best else "none correct"
+            print(f"| {name} | {mine} | {theirs} | {'%.2f×' % ratio if ratio else '—'} |")
+    if ratios:
+        geo = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
+        print(f"\nGeometric mean over {len(ratios)} cases: {geo:.2f}×; worst {max(ratios):.2f}×; "
+              f"cases above 1.5×: {sum(r > 1.5 for r in ratios)}")
+    if plot_path:
+        plot(results, plot_path)
+
+
+def plot(results, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
+    for ax, family in zip(axes, ["sphere_sphere_union", "menger"]):
+        names = [n for n, m in results["cases"].items() if m.get("family") == family]
+        peers = sorted({p for n in names for p in results["results"].get(n, {})})
+        for peer in peers:
+            points = sorted((results["cases"][n]["input_triangles"], r["op_s"])
+                            for n in names for p, r in results["results"].get(n, {}).items()
+                            if p == peer and r.get("correct") and r.get("op_s"))
+            if len(points) < 2:
+                continue
+            xs, ys = zip(*points)
+            lx, ly = [math.log(x) for x in xs], [math.log(y) for y in ys]
+            mx, my = sum(lx) / len(lx), sum(ly) / len(ly)
+            slope = sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sum((a - mx) ** 2 for a in lx)
+            ax.loglog(xs, ys, marker="o", label=f"{peer} (exponent {slope:.2f})")
+            print(f"{family}: {peer} growth exponent {slope:.2f} over {len(xs)} sizes")
+        ax.set_title(family)
+        ax.set_xlabel("input triangles")
+        ax.set_ylabel("op time (s), correct results only")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+if __name__ == "__main__":
+    main()
