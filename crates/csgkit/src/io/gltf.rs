@@ -177,8 +177,8 @@ fn u32_at(data: &[u8], offset: usize) -> Option<u32> {
     Some(u32::from_le_bytes(bytes.try_into().ok()?))
 }
 
-/// A GLB chunk: its type, its body, and where the next chunk starts.
-type GlbChunk<'a> = (u32, &'a [u8], usize);
+/// A GLB chunk: its type, its body and the offset of the next chunk.
+type Chunk<'a> = (u32, &'a [u8], usize);
 
 /// The JSON chunk and the binary chunk (if any) of a GLB file.
 fn glb_chunks(data: &[u8]) -> Result<(&[u8], Option<&[u8]>), ParseError> {
@@ -205,7 +205,7 @@ fn glb_chunks(data: &[u8]) -> Result<(&[u8], Option<&[u8]>), ParseError> {
         return Err(truncated("GLB file", length));
     }
     let data = &data[..length];
-    let chunk = |offset: usize, what| -> Result<Option<GlbChunk<'_>>, ParseError> {
+    let chunk = |offset: usize, what| -> Result<Option<Chunk<'_>>, ParseError> {
         if offset >= data.len() {
             return Ok(None);
         }
