@@ -3,19 +3,23 @@
 //! library learns is read and written here without a change), and `check`, the report of
 //! `csgkit check --json`.
 
+use std::ffi::CString;
 use std::path::PathBuf;
 
 use csgkit::mesh::analyze;
 use csgkit::{Encoding, WriteOptions, read_mesh, write_mesh};
+use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::detach::detached;
+use crate::errors;
 use crate::mesh::{PyMesh, extract_mesh};
 
-/// Reads a mesh file in any format the library reads (OBJ, STL, PLY, OFF, …), chosen by the
-/// extension, or by the content where it says otherwise. Raises ReadError naming the file
-/// and the line or byte at fault.
+/// Reads a mesh file in any format the library reads (OBJ, STL, PLY, OFF, 3MF, glTF, …),
+/// chosen by the extension, or by the content where it says otherwise; the parts of a file
+/// that holds several (3MF build items, glTF nodes) become one mesh. Raises ReadError naming
+/// the file and the line or byte at fault.
 ///
 /// >>> import csgkit, tempfile, os
 /// >>> path = os.path.join(tempfile.mkdtemp(), "box.ply")
@@ -29,9 +33,11 @@ pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyMesh> {
 }
 
 /// Writes a mesh (a csgkit.Mesh or anything `boolean` takes) in the format its extension
-/// names, whole or not at all (through a temporary file renamed over `path`). STL and PLY are
-/// binary unless `ascii`. PLY keeps each face's provenance, so a chain of booleans through PLY
-/// files merges split faces back. Raises WriteError.
+/// names (OBJ, STL, PLY, OFF, 3MF, glTF, …), whole or not at all (through a temporary file
+/// renamed over `path`). STL and PLY are binary unless `ascii`. PLY keeps each face's
+/// provenance, so a chain of booleans through PLY files merges split faces back. Formats that
+/// store float32 (glTF, binary STL) round coordinates, and a `UserWarning` says how many.
+/// Raises WriteError.
 #[pyfunction]
 #[pyo3(signature = (mesh, path, *, ascii=false))]
 pub fn save(py: Python<'_>, mesh: &Bound<'_, PyAny>, path: PathBuf, ascii: bool) -> PyResult<()> {
@@ -44,10 +50,18 @@ pub fn save(py: Python<'_>, mesh: &Bound<'_, PyAny>, path: PathBuf, ascii: bool)
         },
         ..WriteOptions::default()
     };
-    detached(py, None, |_| {
-        write_mesh(&path, &mesh, options)?;
-        Ok(())
-    })
+    let written = detached(py, None, |_| Ok(write_mesh(&path, &mesh, options)?))?;
+    if written.rounded_coordinates > 0 {
+        let message = format!(
+            "{} stores float32: {} of {} coordinates were rounded",
+            path.display(),
+            written.rounded_coordinates,
+            3 * mesh.vertex_count()
+        );
+        let message = CString::new(message).map_err(|error| errors::input(error.to_string()))?;
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 1)?;
+    }
+    Ok(())
 }
 
 /// Every validity check and measure of a mesh, as `csgkit check --json` reports them: a

@@ -28,8 +28,9 @@ use crate::errors;
 /// `vertices` is an (n, 3) float64 array; `faces` is an (m, 3) uint32 array when every face
 /// is a triangle, and otherwise a list of m uint32 arrays, one per polygon. Meshes read from
 /// files and results of operations also carry per-face materials and provenance, per-corner
-/// UVs and normals and per-vertex colours, when their source has them. The arrays are
-/// read-only views of the mesh's own buffers (no copy is made); copy one to change it.
+/// UVs and normals and per-vertex colours, when their source has them. `vertices`, `faces`
+/// and `corners` are read-only views of the mesh's own buffers (no copy is made), the
+/// attributes read-only copies; copy an array to change it.
 ///
 /// Example:
 ///
@@ -47,7 +48,8 @@ pub struct PyMesh {
     vertices: Py<PyArray2<f64>>,
     /// The flat corner buffer (uint32, read-only): every face's vertex indices, face after face.
     corners: Py<PyArray1<u32>>,
-    /// Where each face starts in `corners`, plus its length; `None` for a triangle mesh.
+    /// Where each face starts in `corners`, then the length of `corners`; `None` for a
+    /// triangle mesh.
     face_starts: Option<Vec<u32>>,
     /// Every other buffer of the mesh (positions and corners left empty).
     attributes: MeshParts,

@@ -1,31 +1,45 @@
 """load and save: round trips through every format, and the shared meshes read as the
 manifest measured them."""
 
+import warnings
+
 import numpy as np
 import pytest
 
 import csgkit
 from conftest import cube, sphere
 
-FORMATS = [("obj", False), ("off", False), ("ply", False), ("ply", True), ("stl", False), ("stl", True)]
+FORMATS = [("obj", False), ("off", False), ("ply", False), ("ply", True), ("stl", False), ("stl", True),
+           ("3mf", False), ("glb", False), ("gltf", False)]
+#: Formats that store float32 coordinates (glTF, binary STL) and those that hold triangles only.
+FLOAT32 = {("stl", False), ("glb", False), ("gltf", False)}
+TRIANGLES = {"stl", "3mf", "glb", "gltf"}
 
 
 @pytest.mark.parametrize("extension, ascii", FORMATS)
 def test_round_trips_keep_every_coordinate(tmp_path, extension, ascii):
     result = csgkit.union(sphere(subdivisions=2), sphere((0.3, 0.2, 0.1), 0.9, 2))
     path = tmp_path / f"result.{extension}"
-    csgkit.save(result, path, ascii=ascii)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        csgkit.save(result, path, ascii=ascii)
     back = csgkit.load(path)
-    if extension == "stl":
-        # STL stores three positions per facet (float32 in binary files); reading welds
-        # equal ones back together.
-        corners = result.vertices[result.faces]
-        expected = corners if ascii else corners.astype(np.float32).astype(np.float64)
-        np.testing.assert_array_equal(back.vertices[back.faces], expected)
+    corners = result.vertices[result.faces]
+    if (extension, ascii) in FLOAT32:
+        # The exact result rounded to float32, and a warning that says so.
+        assert [str(w.message) for w in caught] == [
+            f"{path} stores float32: {np.count_nonzero(result.vertices != result.vertices.astype(np.float32))}"
+            f" of {result.vertices.size} coordinates were rounded"
+        ]
+        corners = corners.astype(np.float32).astype(np.float64)
+    else:
+        assert caught == []
+    if extension in ("stl", "glb", "gltf"):
+        # STL and glTF store positions per facet or per primitive; reading welds equal ones.
+        np.testing.assert_array_equal(back.vertices[back.faces], corners)
     else:
         np.testing.assert_array_equal(back.vertices, result.vertices)
         np.testing.assert_array_equal(back.faces, result.faces)
-    if extension != "stl" or ascii:
         assert csgkit.check(back)["volume"] == csgkit.check(result)["volume"]
 
 
@@ -37,10 +51,12 @@ def test_polygons_round_trip_where_the_format_holds_them(tmp_path):
         csgkit.save(result, path)
         back = csgkit.load(path)
         assert [f.tolist() for f in back.faces] == [f.tolist() for f in result.faces]
-    csgkit.save(result, tmp_path / "triangulated.stl")
-    back = csgkit.load(tmp_path / "triangulated.stl")
-    assert back.faces.shape[1] == 3
-    assert csgkit.check(back)["volume"] == csgkit.check(result)["volume"] == 3.0
+    for extension in TRIANGLES:
+        path = tmp_path / f"triangulated.{extension}"
+        csgkit.save(result, path, ascii=True)
+        back = csgkit.load(path)
+        assert back.faces.shape[1] == 3
+        assert csgkit.check(back)["volume"] == csgkit.check(result)["volume"] == 3.0
 
 
 def test_ply_keeps_provenance_so_a_chain_merges_faces_back(tmp_path):
