@@ -146,14 +146,12 @@ impl Engine for ExactEngine {
         // The boxes are united by the orthogonal engine (exactly, from comparisons of their
         // coordinates), and the exact engine meets one operand instead of many, as in CSG
         // trees: a union or a difference is associative over its united operands.
-        let corners: Vec<[f64; 6]> = (boxes.iter())
-            .map(|&k| bounded_box(operands[k]).expect("plain_boxes keeps boxes only"))
-            .collect();
+        let corners: Vec<[f64; 6]> = boxes.iter().map(|&(_, corners)| corners).collect();
         let (out, mut stage_seconds) =
             box_union_mesh(&corners, None, MeshOptions::default(), progress)?;
         let united = out.mesh;
         let mut rest: Vec<&Mesh> = (operands.iter().enumerate())
-            .filter(|(k, _)| boxes.binary_search(k).is_err())
+            .filter(|(k, _)| boxes.binary_search_by_key(k, |&(b, _)| b).is_err())
             .map(|(_, mesh)| *mesh)
             .collect();
         rest.push(&united);
@@ -168,29 +166,30 @@ impl Engine for ExactEngine {
     }
 }
 
-/// The operands of `operation` that the orthogonal engine can unite first, in order: for a
-/// union every operand, for a difference those after the first, that is a plain box (its
+/// The operands of `operation` that the orthogonal engine can unite first, in order, with
+/// their boxes: for a union every operand, for a difference those after the first, that is
+/// a plain box (its
 /// eight corners, bounding an axis-aligned box, with no attribute that its faces would lose
 /// when they merge into maximal faces); none unless there are at least
 /// [`MIN_UNITED_BOXES`].
-fn plain_boxes(operation: Operation, operands: &[&Mesh]) -> Vec<usize> {
+fn plain_boxes(operation: Operation, operands: &[&Mesh]) -> Vec<(usize, [f64; 6])> {
     let first = match operation {
         Operation::Union => 0,
         Operation::Difference => 1,
         Operation::Intersection | Operation::Xor => return Vec::new(),
     };
     let plain = |mesh: &Mesh| {
-        mesh.vertex_count() == 8
+        let bare = mesh.vertex_count() == 8
             && mesh.face_materials().is_none()
             && mesh.face_groups().is_none()
             && mesh.face_colors().is_none()
             && mesh.corner_uvs().is_none()
             && mesh.corner_normals().is_none()
-            && mesh.vertex_colors().is_none()
-            && bounded_box(mesh).is_some()
+            && mesh.vertex_colors().is_none();
+        bare.then(|| bounded_box(mesh)).flatten()
     };
-    let boxes: Vec<usize> = (first..operands.len())
-        .filter(|&k| plain(operands[k]))
+    let boxes: Vec<(usize, [f64; 6])> = (first..operands.len())
+        .filter_map(|k| plain(operands[k]).map(|corners| (k, corners)))
         .collect();
     if boxes.len() >= MIN_UNITED_BOXES {
         boxes

@@ -84,26 +84,6 @@ fn round_trips_are_bit_exact_with_materials_and_colours() {
 }
 
 #[test]
-fn polygons_are_written_as_their_exact_triangles() {
-    // An L-shaped hexagon, which a fan from its first corner would leave.
-    let l_shape = Mesh::from_polygons(
-        vec![
-            [0.0, 0.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [2.0, 1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [1.0, 2.0, 0.0],
-            [0.0, 2.0, 0.0],
-        ],
-        &[[0u32, 1, 2, 3, 4, 5]],
-    )
-    .unwrap();
-    let back = read(&written(&l_shape)).unwrap().parts.remove(0).mesh;
-    assert_eq!(back.face_count(), 4);
-    assert_eq!(crate::mesh::measure(&back).area, 3.0);
-}
-
-#[test]
 fn items_components_transforms_and_units() {
     let resources = format!(
         "{}{}<object id=\"3\" name=\"pair\">\n<components>\n<component objectid=\"1\"/>\n\
