@@ -33,6 +33,7 @@ use pyo3::prelude::*;
 fn _csgkit(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_class::<mesh::PyMesh>()?;
+    module.add_function(wrap_pyfunction!(mesh::_mesh_from_state, module)?)?;
     module.add_function(wrap_pyfunction!(operations::boolean, module)?)?;
     module.add_function(wrap_pyfunction!(operations::union, module)?)?;
     module.add_function(wrap_pyfunction!(operations::intersection, module)?)?;

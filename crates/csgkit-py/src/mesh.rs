@@ -13,7 +13,7 @@
 //! - `faces`: an integer array of shape (m, k), k ≥ 3 (triangles when k = 3), or a sequence
 //!   of polygons, each a sequence of at least three vertex indices, every index in 0..n.
 
-use csgkit::{Mesh, MeshParts, Output, Provenance, Stage};
+use csgkit::{FaceId, Mesh, MeshParts, OperandId, Output, Provenance, Stage};
 use numpy::{
     AllowTypeChange, Element, PyArray1, PyArray2, PyArrayDescrMethods, PyArrayLikeDyn,
     PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
@@ -216,6 +216,64 @@ impl PyMesh {
         Ok(Some(seconds))
     }
 
+    /// Pickling (for `multiprocessing`, Dask and caches): every buffer and attribute, as
+    /// arrays and lists that `_mesh_from_state` turns back into the same mesh. The stage
+    /// seconds stay behind: they describe a run in this process.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyDict>,))> {
+        let attributes = &self.attributes;
+        let state = PyDict::new(py);
+        state.set_item("vertices", self.vertices.bind(py))?;
+        state.set_item("corners", self.corners.bind(py))?;
+        state.set_item(
+            "face_starts",
+            self.face_starts
+                .as_deref()
+                .map(|s| PyArray1::from_slice(py, s)),
+        )?;
+        state.set_item(
+            "face_materials",
+            attributes
+                .face_materials
+                .as_deref()
+                .map(|s| PyArray1::from_slice(py, s)),
+        )?;
+        state.set_item("materials", &attributes.materials)?;
+        state.set_item(
+            "face_groups",
+            attributes
+                .face_groups
+                .as_deref()
+                .map(|s| PyArray1::from_slice(py, s)),
+        )?;
+        state.set_item("groups", &attributes.groups)?;
+        state.set_item(
+            "face_colors",
+            flat_rows(py, attributes.face_colors.as_deref()),
+        )?;
+        let provenance: Option<Vec<[u32; 2]>> =
+            (attributes.face_provenance.as_deref()).map(|rows| {
+                rows.iter()
+                    .map(|p| [p.operand.get(), p.face.get()])
+                    .collect()
+            });
+        state.set_item("provenance", flat_rows(py, provenance.as_deref()))?;
+        state.set_item("uvs", flat_rows(py, attributes.corner_uvs.as_deref()))?;
+        state.set_item(
+            "normals",
+            flat_rows(py, attributes.corner_normals.as_deref()),
+        )?;
+        state.set_item(
+            "vertex_colors",
+            flat_rows(py, attributes.vertex_colors.as_deref()),
+        )?;
+        state.set_item("material_libraries", &attributes.material_libraries)?;
+        let rebuild = py.import("csgkit._csgkit")?.getattr("_mesh_from_state")?;
+        Ok((rebuild, (state,)))
+    }
+
     fn __repr__(&self, py: Python<'_>) -> String {
         let kind = match self.face_starts {
             None => "triangles",
@@ -280,6 +338,72 @@ impl PyMesh {
         };
         Mesh::from_parts(parts).map_err(|error| errors::input(error.to_string()))
     }
+}
+
+/// The mesh a pickled `csgkit.Mesh` held (see `Mesh.__reduce__`); checked as any mesh is.
+#[pyfunction]
+pub fn _mesh_from_state(py: Python<'_>, state: &Bound<'_, PyDict>) -> PyResult<PyMesh> {
+    let item = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        (state.get_item(key)?)
+            .ok_or_else(|| errors::input(format!("a pickled csgkit.Mesh lacks {key}")))
+    };
+    let names = |key: &str| -> PyResult<Vec<String>> {
+        (item(key)?.extract()).map_err(|error| errors::input(format!("pickled {key}: {error}")))
+    };
+    let provenance: Option<Vec<[u32; 2]>> = rows(values(&item("provenance")?)?);
+    let parts = MeshParts {
+        positions: rows(values(&item("vertices")?)?).unwrap_or_default(),
+        corners: values(&item("corners")?)?.unwrap_or_default(),
+        face_starts: values(&item("face_starts")?)?,
+        face_materials: values(&item("face_materials")?)?,
+        materials: names("materials")?,
+        face_groups: values(&item("face_groups")?)?,
+        groups: names("groups")?,
+        face_colors: rows(values(&item("face_colors")?)?),
+        face_provenance: provenance.map(|rows| {
+            (rows.into_iter())
+                .map(|[operand, face]| Provenance {
+                    operand: OperandId::new(operand as usize),
+                    face: FaceId::new(face as usize),
+                })
+                .collect()
+        }),
+        corner_uvs: rows(values(&item("uvs")?)?),
+        corner_normals: rows(values(&item("normals")?)?),
+        vertex_colors: rows(values(&item("vertex_colors")?)?),
+        material_libraries: names("material_libraries")?,
+    };
+    let mesh = Mesh::from_parts(parts).map_err(|error| errors::input(error.to_string()))?;
+    PyMesh::from_mesh(py, mesh)
+}
+
+/// The values of an array of any shape in C order (`None` for `None`), of the element type
+/// the pickle wrote.
+fn values<T: Element + Copy>(object: &Bound<'_, PyAny>) -> PyResult<Option<Vec<T>>> {
+    if object.is_none() {
+        return Ok(None);
+    }
+    let array: numpy::PyReadonlyArrayDyn<'_, T> = object
+        .extract()
+        .map_err(|error| errors::input(format!("pickled csgkit.Mesh: {error}")))?;
+    Ok(Some(array.as_array().iter().copied().collect()))
+}
+
+/// Rows of `K` values flattened into a 1-D array (a copy), for pickling.
+fn flat_rows<'py, T: Element + Copy, const K: usize>(
+    py: Python<'py>,
+    rows: Option<&[[T; K]]>,
+) -> Option<Bound<'py, PyArray1<T>>> {
+    rows.map(|rows| PyArray1::from_slice(py, rows.as_flattened()))
+}
+
+/// Values taken `K` at a time, as [`flat_rows`] wrote them.
+fn rows<T: Copy, const K: usize>(values: Option<Vec<T>>) -> Option<Vec<[T; K]>> {
+    values.map(|values| {
+        (values.chunks_exact(K))
+            .map(|row| std::array::from_fn(|k| row[k]))
+            .collect()
+    })
 }
 
 /// Marks `array` read-only (and the array it views, if any).

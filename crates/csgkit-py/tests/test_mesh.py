@@ -128,3 +128,42 @@ def test_results_time_the_stages_their_progress_reported():
         assert list(seconds) == list(dict.fromkeys(reported))
         assert all(t >= 0 for t in seconds.values())
     assert list(csgkit.union(a, b).stage_seconds)[:2] == ["ingest", "validate"]
+
+
+def test_meshes_pickle_with_every_attribute(tmp_path):
+    """A result (provenance, polygons) and a file's mesh (materials, groups, UVs, normals)
+    come back from pickle equal in every array, as Dask and multiprocessing move them."""
+    import pickle
+
+    v, f = cube()
+    result = csgkit.union(csgkit.Mesh(v, f), (v + [0.5, 0.25, 0.0], f), faces="polygons")
+    obj = tmp_path / "attributes.obj"
+    obj.write_text(
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvn 0 0 1\n"
+        "g part\nusemtl red\nf 1/1/1 3/2/1 2/1/1\nusemtl blue\nf 1/2/1 2/1/1 4/1/1\n"
+        "f 1/1/1 4/2/1 3/1/1\nf 2/1/1 3/2/1 4/1/1\n"
+    )
+    loaded = csgkit.load(obj)
+    for mesh in (result, loaded):
+        copy = pickle.loads(pickle.dumps(mesh))
+        assert type(copy) is csgkit.Mesh and repr(copy) == repr(mesh)
+        for name in ("vertices", "corners", "face_materials", "face_groups", "face_colors",
+                     "uvs", "normals", "vertex_colors", "provenance"):
+            mine, theirs = getattr(mesh, name), getattr(copy, name)
+            assert (mine is None) == (theirs is None), name
+            if mine is not None:
+                assert mine.dtype == theirs.dtype, name
+                np.testing.assert_array_equal(mine, theirs, err_msg=name)
+        assert [list(x) for x in copy.faces] == [list(x) for x in mesh.faces]
+        assert copy.material_names == mesh.material_names
+        assert copy.group_names == mesh.group_names
+    assert loaded.uvs is not None and loaded.face_materials is not None
+    assert result.provenance is not None
+
+
+def test_a_damaged_pickle_is_an_input_error():
+    state = csgkit.union(cube())
+    rebuild, (fields,) = state.__reduce__()
+    fields = dict(fields, corners=np.array([0, 1, 99], dtype=np.uint32), face_starts=None)
+    with pytest.raises(csgkit.InputError):
+        rebuild(fields)

@@ -41,3 +41,38 @@ def test_concurrent_operations_match_serial_ones():
     for one, other in zip(serial, parallel):
         np.testing.assert_array_equal(one.vertices, other.vertices)
         np.testing.assert_array_equal(one.faces, other.faces)
+
+
+def test_ctrl_c_interrupts_an_operation():
+    """A KeyboardInterrupt arriving during an operation (here simulated on the main thread,
+    as Ctrl-C delivers it) is raised by the operation, long before the operation would have
+    finished, and the next operation runs normally."""
+    import _thread
+    import time
+
+    a, b = sphere((0, 0, 0), 1, 6), sphere((0.3, 0.2, 0.1), 1, 6)
+    start = time.perf_counter()
+    csgkit.union(a, b)
+    full = time.perf_counter() - start
+
+    big_a, big_b = sphere((0, 0, 0), 1, 7), sphere((0.3, 0.2, 0.1), 1, 7)
+    timer = threading.Timer(0.05, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    try:
+        csgkit.union(big_a, big_b)
+    except KeyboardInterrupt:
+        interrupted_after = time.perf_counter() - start
+    else:
+        raise AssertionError("the operation finished without seeing the interrupt")
+    finally:
+        timer.cancel()
+    # The subdivision-7 union is four times the subdivision-6 one's work.
+    assert interrupted_after < 2 * full + 0.5, (interrupted_after, full)
+    assert csgkit.check(csgkit.union(*cube_pair()))["volume"] == 1.5
+
+
+def cube_pair():
+    from conftest import cube
+
+    return cube(), cube((0.5, 0, 0), (1.5, 1, 1))

@@ -67,6 +67,8 @@ class Mesh:
     @property
     def stage_seconds(self) -> Optional[dict[str, float]]:
         """Seconds of each stage of the operation that made the mesh, or None."""
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
+        """Pickling keeps every array and attribute (not stage_seconds)."""
 
 def boolean(
     operation: Operation,
