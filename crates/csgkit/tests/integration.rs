@@ -24,6 +24,8 @@ mod exact_real;
 // The exact engine on operands that are not simple solids: crossing faces, nested and inward
 // shells, winding rules, repair; certified results and chains through files.
 mod exact_winding;
+// Inputs the fuzz targets (fuzz/) found to crash, replayed through the targets' checks.
+mod fuzz_regressions;
 // Every shared data mesh loads with the manifest's counts; every format (3MF and glTF too)
 // round-trips positions, materials and colours; malformed files of each format get exact errors.
 mod io_formats;

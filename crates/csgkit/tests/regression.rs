@@ -73,3 +73,43 @@ fn issue_11_operand_with_a_two_sided_sheet_is_the_solid_without_it() {
     assert_eq!(repaired.mesh.report().measures.volume, 8.0);
     assert_eq!(repaired.mesh.report().duplicate_faces, 0);
 }
+
+/// Issue 13 (fuzzing): geometry a file holds twice. A cube with one face written twice (its
+/// edges then unbalanced: not closed as stored) is the cube without the repeat; a cube written
+/// twice over the same vertices (every edge with four uses, winding number 2 inside) is the
+/// cube by the winding rule. Both for every operation and for a repair; before, the first
+/// was refused as open, and the second's repair kept both copies (twice the volume).
+#[test]
+fn issue_13_repeated_faces_count_once() {
+    let cube = cuboid([0.0; 3], [2.0; 3]);
+    let parts = cube.clone().into_parts();
+    let mut one_face_twice = parts.clone();
+    one_face_twice
+        .corners
+        .extend_from_slice(&parts.corners[..3]);
+    let mut all_twice = parts.clone();
+    all_twice.corners.extend_from_slice(&parts.corners);
+    let other = cuboid([1.0; 3], [3.0; 3]);
+    let options = BooleanOptions::default();
+    for (repeated, triangles) in [(one_face_twice, 12), (all_twice, 24)] {
+        let operand = Mesh::from_parts(repeated).unwrap();
+        for (op, expected) in [
+            (Operation::Union, 15.0),
+            (Operation::Intersection, 1.0),
+            (Operation::Difference, 7.0),
+        ] {
+            let result = boolean(op, &[&operand, &other], &options)
+                .unwrap_or_else(|e| panic!("{op:?} failed: {e}"));
+            assert_eq!(result.stats.input_triangles, triangles + 12, "{op:?}");
+            let report = result.mesh.report();
+            assert!(report.is_valid_solid(), "{op:?}: {report:?}");
+            assert_eq!(report.duplicate_faces, 0, "{op:?}: {report:?}");
+            assert_eq!(report.measures.volume, expected, "{op:?}");
+        }
+        let repaired = boolean(Operation::Union, &[&operand], &options).unwrap();
+        let report = repaired.mesh.report();
+        assert_eq!(report.measures.volume, 8.0);
+        assert_eq!(report.duplicate_faces, 0);
+        assert_eq!(repaired.stats.input_triangles, triangles);
+    }
+}

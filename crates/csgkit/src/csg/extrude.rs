@@ -255,8 +255,8 @@ pub struct LinearExtrude {
     pub center: bool,
     /// Degrees turned clockwise (seen from above) from bottom to top.
     pub twist: f64,
-    /// Bands of faces from bottom to top (at least 1); by default OpenSCAD's rule for the
-    /// twist and scale ([`LinearExtrude::slices_for`]).
+    /// Bands of faces from bottom to top (at least 1); by default OpenSCAD's count, from the
+    /// twist, the scale and the profile's largest radius.
     pub slices: Option<u32>,
     /// The scale of the top against the bottom, per axis.
     pub scale: [f64; 2],

@@ -336,11 +336,11 @@ fn exact_result(
             None => ingest::self_intersecting_pairs(&input, progress)?,
             Some(at) => ingest::self_intersecting_pairs_at(&input, at),
         };
-        let general = !pairs.is_empty() || winding::has_nested_shells(&input);
+        let general = input.has_repeats || !pairs.is_empty() || winding::has_nested_shells(&input);
         clock.record(Stage::Validate);
         (pairs, general)
     } else {
-        (Vec::new(), false)
+        (Vec::new(), input.has_repeats)
     };
     stats.self_intersecting_pairs = self_pairs.len();
     stats.winding_classification = general;

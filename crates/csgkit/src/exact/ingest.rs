@@ -17,7 +17,10 @@
 //!   arrangement resolves, not a hole), with a non-negative volume;
 //! - two-sided sheets (triangles of one operand over the same three vertices in opposite
 //!   orientations) are dropped: they add nothing to any winding number, and their faces have
-//!   no inside for classification to sample;
+//!   no inside for classification to sample. A triangle repeated in the same orientation
+//!   doubles the winding number behind it ([`Input::has_repeats`] sends the operands to the
+//!   winding classification), except where it unbalances edges: an operand whose only fault
+//!   is a face written twice is closed without the repeat;
 //! - coordinates are multiplied by [`Input::scale`], an exact power of two chosen so that the
 //!   largest magnitude is near 1 when it is far from it, so predicate arithmetic on inputs
 //!   like ±3.4e38 neither overflows nor leaves the fast filters. The scale is applied only
@@ -39,7 +42,7 @@ use rayon::prelude::*;
 use crate::index::Aabb;
 use crate::kernel::Point3;
 use crate::mesh::{
-    FaceId, Mesh, PolygonError, opposite_triangle_pairs, triangulate_faces, weld_positions,
+    FaceId, Mesh, PolygonError, coincident_triangles, triangulate_faces, weld_positions,
 };
 use crate::progress::{Cancelled, Progress, Stage};
 
@@ -145,6 +148,11 @@ pub(crate) struct Input {
     /// when that edge has exactly two uses, both in this operand, in opposite directions;
     /// [`NO_NEIGHBOUR`] otherwise.
     pub neighbours: Vec<u32>,
+    /// Whether an operand holds a triangle twice over the same vertices in the same
+    /// orientation, its edges balanced (a shell written twice, or nested shells sharing a
+    /// face): such coincident faces double the winding number behind them, which only the
+    /// winding classification counts.
+    pub has_repeats: bool,
 }
 
 impl Input {
@@ -222,13 +230,34 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
         operand_starts,
         operand_boxes,
         neighbours: Vec::new(),
+        has_repeats: false,
     };
     let offsets = vertex_offsets(operands);
-    input.neighbours = link_edges(&input, &degenerate, operands, &welding.remap, &offsets)?;
-    let sheets = sheet_triangles(&input);
-    if !sheets.is_empty() {
-        input = without_triangles(input, &sheets);
-        input.neighbours = link_edges(&input, &degenerate, operands, &welding.remap, &offsets)?;
+    let link = |input: &Input| link_edges(input, &degenerate, operands, &welding.remap, &offsets);
+    let dropped = match link(&input) {
+        Ok(neighbours) => {
+            input.neighbours = neighbours;
+            let (sheets, repeats) =
+                coincident_within_operands(&input, &coincidence_candidates(&input));
+            input.has_repeats = !repeats.is_empty();
+            sheets
+        }
+        // A face a file holds twice unbalances its edges: the operand may close without the
+        // repeat (and without any sheet).
+        Err(error) => {
+            let all: Vec<u32> = (0..input.triangles.len() as u32).collect();
+            let (mut sheets, repeats) = coincident_within_operands(&input, &all);
+            if repeats.is_empty() {
+                return Err(error);
+            }
+            sheets.extend(repeats);
+            sheets.sort_unstable();
+            sheets
+        }
+    };
+    if !dropped.is_empty() {
+        input = without_triangles(input, &dropped);
+        input.neighbours = link(&input)?;
     }
     for k in 0..operands.len() {
         let volume = signed_volume(&input, k);
@@ -279,40 +308,53 @@ fn add_operand_triangles(
     Ok(degenerate)
 }
 
-/// The triangles of two-sided sheets, sorted: pairs of one operand over the same three
-/// vertices in opposite orientations ([`opposite_triangle_pairs`]), which files written by
-/// other tools (and rounded results) carry where a sliver collapsed flat. A sheet adds
-/// nothing to any winding number, so without it the operand is the same solid; with it, its
-/// edges have four uses, no neighbour links across them, and its faces have no inside to
-/// sample. Only a triangle with a side that links no neighbour, or whose neighbour has the
-/// same corners, can be in one, so a clean operand costs one pass over its sides.
-fn sheet_triangles(input: &Input) -> Vec<u32> {
+/// The triangles that can be coincident with another of their operand, sorted: those with a
+/// side that links no neighbour, or whose neighbour has the same corners. A two-sided sheet
+/// or a repeated triangle makes its edges non-manifold (four uses), and those link nothing,
+/// so a clean operand costs one pass over its sides.
+fn coincidence_candidates(input: &Input) -> Vec<u32> {
     let sorted = |t: usize| {
         let mut corners = input.triangles[t].vertices();
         corners.sort_unstable();
         corners
     };
-    let candidates: Vec<u32> = (0..input.triangles.len())
+    (0..input.triangles.len())
         .into_par_iter()
         .filter(|&t| {
             (input.neighbours[3 * t..3 * t + 3].iter())
                 .any(|&n| n == NO_NEIGHBOUR || sorted(n as usize) == sorted(t))
         })
         .map(|t| t as u32)
-        .collect();
-    let mut sheets = Vec::new();
-    let mut rest = candidates.as_slice();
+        .collect()
+}
+
+/// Among `candidates` (sorted), the coincident triangles of one operand
+/// ([`coincident_triangles`]), each list sorted:
+/// - both triangles of every two-sided sheet (a pair over the same three vertices in
+///   opposite orientations), which files written by other tools (and rounded results) carry
+///   where a sliver collapsed flat. A sheet adds nothing to any winding number, so without it
+///   the operand is the same solid, and its faces have no inside to sample: it is dropped;
+/// - every repeat of a triangle in the same orientation, which files carry where geometry was
+///   written twice or where nested shells share a face. A repeat doubles the winding number
+///   behind its face; it is dropped only where it leaves edges unbalanced (a face written
+///   twice), and otherwise sends the operand to the winding classification.
+fn coincident_within_operands(input: &Input, candidates: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let (mut sheets, mut repeats) = (Vec::new(), Vec::new());
+    let mut rest = candidates;
     for k in 0..input.operand_count() {
         let end = input.operand_starts[k + 1];
         let (own, tail) = rest.split_at(rest.partition_point(|&t| t < end));
         let triangles = own
             .iter()
             .map(|&t| (t, input.triangles[t as usize].vertices()));
-        sheets.extend(opposite_triangle_pairs(triangles).into_iter().flatten());
+        let (pairs, repeated) = coincident_triangles(triangles);
+        sheets.extend(pairs.into_iter().flatten());
+        repeats.extend(repeated);
         rest = tail;
     }
     sheets.sort_unstable();
-    sheets
+    repeats.sort_unstable();
+    (sheets, repeats)
 }
 
 /// `input` without the triangles `removed` (sorted), renumbered; the neighbour links are

@@ -35,7 +35,9 @@
 //!    the result when the operation contains exactly one side; it is reversed when that side
 //!    is the front. A stack of coincident patches is kept once: from the lowest operand, and
 //!    within it from the lowest patch (coincident patches cover the same region, since each is
-//!    cut along the other's edges).
+//!    cut along the other's edges). A sliver too thin for an f64 sample takes its winding
+//!    numbers from a neighbour in its face and its stack from the sub-triangles over its
+//!    three vertices.
 //!
 //! # Complexity
 //! One [`Bvh`] over the input triangles and one ray per patch: O((n + P) log n) plus the
@@ -95,6 +97,9 @@ pub(crate) struct Sample {
     /// The input triangles through the point (coplanar with the sampled one, which is among
     /// them), each with `+1` when it faces the same way and `-1` otherwise.
     pub coincident: Vec<(u32, i32)>,
+    /// For a sliver classified from its neighbour (no point to cast from), the sub-triangles
+    /// over its three vertices, itself included: its coincident stack. Empty for a ray.
+    pub stack: Vec<u32>,
 }
 
 /// A point to cast from: `c` is strictly inside the sampled sub-triangle's projection along
@@ -355,8 +360,9 @@ struct PatchAt {
 /// the other sheets at `e` that leave it in front of `T`, and each changes its operand's
 /// winding number by one, up when the sliver's side is behind the sheet (exact
 /// [`orient3d_plane`] and [`orient3d_points`] on the sheets' sub-triangles). Coplanar sheets
-/// lie in `T`'s plane and are not crossed. A classified sliver is counted as covered by `T`
-/// alone.
+/// lie in `T`'s plane and are not crossed. The sliver's coincident faces are the
+/// sub-triangles over its three vertices (coincident faces are cut along each other's edges,
+/// so a stack of them has the same corners), each counted with its orientation.
 fn propagate_to_slivers(
     input: &Input,
     arr: &Arrangement,
@@ -373,6 +379,14 @@ fn propagate_to_slivers(
             (0..3).map(move |i| key(t[i], t[(i + 1) % 3]))
         })
         .collect();
+    let corners_key = |t: [u32; 3]| {
+        let mut sorted = t;
+        sorted.sort_unstable();
+        sorted
+    };
+    let mut stacks: rustc_hash::FxHashMap<[u32; 3], Vec<u32>> = (pending.iter())
+        .map(|&s| (corners_key(arr.triangles[s as usize]), Vec::new()))
+        .collect();
     let mut at_edge: rustc_hash::FxHashMap<u64, Vec<u32>> = rustc_hash::FxHashMap::default();
     for (s, t) in arr.triangles.iter().enumerate() {
         for i in 0..3 {
@@ -381,7 +395,13 @@ fn propagate_to_slivers(
                 at_edge.entry(k).or_default().push(s as u32);
             }
         }
+        if let Some(stack) = stacks.get_mut(&corners_key(*t)) {
+            stack.push(s as u32);
+        }
     }
+    // +1 for a sub-triangle over the same corners in the same cyclic order as `t`.
+    let same_way =
+        |t: [u32; 3], r: [u32; 3]| (0..3).any(|i| r == [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]);
     let point = |v: u32| arr.point(input, v);
     loop {
         let mut progress = false;
@@ -430,9 +450,22 @@ fn propagate_to_slivers(
                 }
                 front.retain(|e| e.1 != 0);
                 front.sort_unstable();
+                let stack = stacks[&corners_key(tri)].clone();
+                let mut coincident: Vec<(u32, i32)> = (stack.iter())
+                    .map(|&r| {
+                        let sigma = if same_way(tri, arr.triangles[r as usize]) {
+                            1
+                        } else {
+                            -1
+                        };
+                        (arr.source[r as usize], sigma)
+                    })
+                    .collect();
+                coincident.sort_unstable();
                 found[p] = Some(Sample {
                     front,
-                    coincident: vec![(source, 1)],
+                    coincident,
+                    stack,
                 });
                 progress = true;
                 break;
@@ -481,7 +514,7 @@ fn decide(
     if in_front == in_back {
         return None;
     }
-    if let (true, Some(c)) = (found.coincident.len() > 1, at.c) {
+    if found.coincident.len() > 1 {
         let lowest = (found.coincident.iter())
             .map(|&(t, _)| input.operand[t as usize])
             .min()
@@ -489,10 +522,16 @@ fn decide(
         if own != lowest {
             return None;
         }
-        let first_patch = (found.coincident.iter())
-            .filter(|&&(t, _)| input.operand[t as usize] == own)
-            .filter_map(|&(t, _)| patch_at(input, arr, patch_of, t, &c))
-            .min();
+        let first_patch = match at.c {
+            Some(c) => (found.coincident.iter())
+                .filter(|&&(t, _)| input.operand[t as usize] == own)
+                .filter_map(|&(t, _)| patch_at(input, arr, patch_of, t, &c))
+                .min(),
+            None => (found.stack.iter())
+                .filter(|&&r| input.operand[arr.source[r as usize] as usize] == own)
+                .map(|&r| patch_of[r as usize])
+                .min(),
+        };
         if first_patch.is_some_and(|first| first != at.patch) {
             return None;
         }

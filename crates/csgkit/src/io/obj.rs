@@ -253,7 +253,7 @@ pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) {
     let mut f = ryu::Buffer::new();
     out.extend_from_slice(b"# written by csgkit\n");
     for library in mesh.material_libraries() {
-        line(out, &[b"mtllib ", library.as_bytes()]);
+        line(out, &[b"mtllib ", &statement_name(library)]);
     }
     let colors = mesh.vertex_colors();
     for (v, p) in mesh.positions().iter().enumerate() {
@@ -323,6 +323,25 @@ fn write_floats<T: ryu::Float>(
     out.push(b'\n');
 }
 
+/// `name` as the rest of a statement that reads back as one name: a line break, a control
+/// character or `#` (a comment) inside it becomes `_`, and a trailing `\` (which would join
+/// the next line) gets a `_` after it. Names from OBJ files come back as they were.
+fn statement_name(name: &str) -> Vec<u8> {
+    let mut bytes: Vec<u8> = (name.trim().bytes())
+        .map(|b| {
+            if b == b'#' || (b.is_ascii_control() && b != b'\t') {
+                b'_'
+            } else {
+                b
+            }
+        })
+        .collect();
+    if bytes.ends_with(b"\\") {
+        bytes.push(b'_');
+    }
+    bytes
+}
+
 /// Writes the `f` lines, grouped by material, with `usemtl` and `g` where the name changes.
 /// `uv_of` and `normal_of` give each corner's `vt` and `vn` index (empty without them).
 fn write_faces(mesh: &Mesh, uv_of: &[u32], normal_of: &[u32], out: &mut Vec<u8>) {
@@ -340,7 +359,10 @@ fn write_faces(mesh: &Mesh, uv_of: &[u32], normal_of: &[u32], out: &mut Vec<u8>)
             .filter(|&id| material != Some(id))
         {
             material = Some(id);
-            line(out, &[b"usemtl ", mesh.materials()[id as usize].as_bytes()]);
+            line(
+                out,
+                &[b"usemtl ", &statement_name(&mesh.materials()[id as usize])],
+            );
         }
         if let Some(id) = mesh
             .face_groups()
@@ -348,7 +370,7 @@ fn write_faces(mesh: &Mesh, uv_of: &[u32], normal_of: &[u32], out: &mut Vec<u8>)
             .filter(|&id| group != Some(id))
         {
             group = Some(id);
-            line(out, &[b"g ", mesh.groups()[id as usize].as_bytes()]);
+            line(out, &[b"g ", &statement_name(&mesh.groups()[id as usize])]);
         }
         out.push(b'f');
         let range = mesh.face_range(FaceId::new(f));

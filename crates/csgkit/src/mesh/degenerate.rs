@@ -19,6 +19,8 @@
 //!   number off the sheet, so removing both faces leaves the solid, its volume and the balance
 //!   of every edge as they were, while the sheet itself has no inside to sample and doubles
 //!   the uses of its edges.
+//! - **Repeats** ([`coincident_triangles`]): a triangle over the same three vertices, in the
+//!   same orientation, as an earlier one that no opposite pair took.
 //!
 //! # Numeric model
 //! Exact for finite coordinates. Non-finite coordinates (rejected by readers) give an
@@ -152,6 +154,19 @@ fn count_duplicate_faces(mesh: &Mesh) -> usize {
 pub fn opposite_triangle_pairs(
     triangles: impl IntoIterator<Item = (u32, [u32; 3])>,
 ) -> Vec<[u32; 2]> {
+    coincident_triangles(triangles).0
+}
+
+/// [`opposite_triangle_pairs`], and the **repeats** left over: among the triangles over the
+/// same three vertices that no pair took, which all have one orientation, every one but the
+/// first (by id). A repeat is geometry a file holds twice, or a face that nested shells
+/// share; it doubles the winding number behind it and the uses of its edges.
+///
+/// # Complexity
+/// One sort of the triangles given, O(T log T).
+pub fn coincident_triangles(
+    triangles: impl IntoIterator<Item = (u32, [u32; 3])>,
+) -> (Vec<[u32; 2]>, Vec<u32>) {
     // Key: the corners rotated so that the smallest is first, then the other two in increasing
     // order; the flag says whether that took a reflection, so opposite triangles share a key
     // and differ in the flag.
@@ -169,11 +184,19 @@ pub fn opposite_triangle_pairs(
         .collect();
     keyed.sort_unstable();
     let mut pairs = Vec::new();
+    let mut repeats = Vec::new();
     for group in keyed.chunk_by(|x, y| x.0 == y.0) {
         let (forward, reflected) = group.split_at(group.partition_point(|x| !x.1));
         pairs.extend((forward.iter().zip(reflected)).map(|(f, r)| [f.2, r.2]));
+        let paired = forward.len().min(reflected.len());
+        let unpaired = if forward.len() > paired {
+            &forward[paired..]
+        } else {
+            &reflected[paired..]
+        };
+        repeats.extend(unpaired.iter().skip(1).map(|x| x.2));
     }
-    pairs
+    (pairs, repeats)
 }
 
 #[cfg(test)]
@@ -221,6 +244,26 @@ mod tests {
             face_shape(&positions, &[2, 1, 0, 1]),
             FaceShape::RepeatedVertex
         );
+    }
+
+    #[test]
+    fn coincident_triangles_pair_opposites_and_keep_one_of_each_repeat() {
+        // Ids 0, 1, 2 go one way round {0, 1, 2}, 3 and 4 the other; 5 and 6 repeat {0, 1, 3};
+        // 7 has a repeated corner and is no triangle.
+        let triangles = [
+            (0, [0, 1, 2]),
+            (1, [1, 2, 0]),
+            (2, [2, 0, 1]),
+            (3, [2, 1, 0]),
+            (4, [0, 2, 1]),
+            (5, [0, 1, 3]),
+            (6, [3, 0, 1]),
+            (7, [0, 0, 1]),
+        ];
+        let (pairs, repeats) = coincident_triangles(triangles);
+        assert_eq!(pairs, vec![[0, 3], [1, 4]]);
+        // Of {0, 1, 2}, triangle 2 is left unpaired and is the first of its kind: kept.
+        assert_eq!(repeats, vec![6]);
     }
 
     #[test]

@@ -62,7 +62,7 @@ mod weld;
 
 pub use attributes::{concatenate, inherit_attributes};
 pub use degenerate::{
-    DegenerateCounts, FaceShape, are_collinear, count_degenerate, face_shape,
+    DegenerateCounts, FaceShape, are_collinear, coincident_triangles, count_degenerate, face_shape,
     opposite_triangle_pairs,
 };
 pub use ids::{FaceId, OperandId, VertexId};

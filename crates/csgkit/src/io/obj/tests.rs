@@ -62,6 +62,31 @@ fn round_trip_keeps_positions_faces_and_attributes() {
     assert_eq!(read(&out).unwrap().mesh, mesh);
 }
 
+/// Names that the statement syntax would misread (a trailing `\` joins the next line, `#`
+/// starts a comment, a line break ends the statement) are written so that every face comes
+/// back; the fuzz target `read_obj` found the trailing backslash.
+#[test]
+fn names_that_break_statements_are_written_readable() {
+    let parts = MeshParts {
+        positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        corners: vec![0, 1, 2, 0, 2, 1],
+        face_groups: Some(vec![0, 1]),
+        groups: vec!["ends in \\\\".into(), "line\nbreak # not a comment".into()],
+        face_materials: Some(vec![0, 1]),
+        materials: vec!["\r\0".into(), "fine".into()],
+        ..MeshParts::default()
+    };
+    let mut out = Vec::new();
+    write(&Mesh::from_parts(parts).unwrap(), &mut out);
+    let back = read(&out).unwrap().mesh;
+    assert_eq!(back.face_count(), 2);
+    assert_eq!(
+        back.groups(),
+        ["ends in \\\\_", "line_break _ not a comment"]
+    );
+    assert_eq!(back.materials(), ["_", "fine"]);
+}
+
 #[test]
 fn errors_name_the_line_face_and_vertex() {
     assert!(matches!(
