@@ -1,7 +1,8 @@
 // The benchmark page (dist/bench.html?repeat=N): the union of the two spheres of bench-data/
 // (written by bench.mjs) with csgkit's module and with manifold-3d (Manifold's WebAssembly
 // build, single-threaded), from the same arrays, in this page's thread. Each figure is the
-// median of N runs after one warm-up run; the result goes into <pre id="results"> as JSON.
+// median of N runs after one warm-up run, the libraries taking turns; the result goes into
+// <pre id="results"> as JSON.
 //
 // Two measures per library:
 //   op:     the union of two meshes already built (csgkit: union([a, b]); manifold:
@@ -25,18 +26,22 @@ function median(values) {
   return sorted[Math.floor(sorted.length / 2)];
 }
 
-/** Times `run` (which returns its own op time) `repeat` times after a warm-up. */
-function timed(run) {
-  run();
-  const ops = [];
-  const totals = [];
+/** Times each of `runs` (each returns its own op time) `repeat` times after a warm-up, the
+ * runs interleaved so a change in the machine's load touches all of them alike. */
+function timed(runs) {
+  for (const run of Object.values(runs)) run();
+  const samples = Object.fromEntries(Object.keys(runs).map((name) => [name, { ops: [], totals: [] }]));
   for (let i = 0; i < repeat; i++) {
-    const start = performance.now();
-    const op = run();
-    totals.push(performance.now() - start);
-    ops.push(op);
+    for (const [name, run] of Object.entries(runs)) {
+      const start = performance.now();
+      const op = run();
+      samples[name].totals.push(performance.now() - start);
+      samples[name].ops.push(op);
+    }
   }
-  return { op_ms: median(ops), arrays_ms: median(totals) };
+  return Object.fromEntries(
+    Object.entries(samples).map(([name, { ops, totals }]) => [name, { op_ms: median(ops), arrays_ms: median(totals) }]),
+  );
 }
 
 async function main() {
@@ -73,12 +78,13 @@ async function main() {
   const build = ({ vertices, triangles }) =>
     new manifold.Manifold(new manifold.Mesh({ numProp: 3, vertProperties: new Float32Array(vertices), triVerts: triangles }));
   const manifoldUnion = build(a).add(build(b));
+  const times = timed({ csgkit: csgkitRun(), csgkit_no_self_check: csgkitRun({ selfCheck: false }), manifold: manifoldRun });
   const results = {
     input_triangles: [a.triangles.length / 3, b.triangles.length / 3],
     repeat,
-    csgkit: { ...timed(csgkitRun()), triangles: check.triangles, volume: check.volume },
-    csgkit_no_self_check: timed(csgkitRun({ selfCheck: false })),
-    manifold: { ...timed(manifoldRun), triangles: manifoldUnion.numTri(), volume: manifoldUnion.volume() },
+    csgkit: { ...times.csgkit, triangles: check.triangles, volume: check.volume },
+    csgkit_no_self_check: times.csgkit_no_self_check,
+    manifold: { ...times.manifold, triangles: manifoldUnion.numTri(), volume: manifoldUnion.volume() },
     user_agent: navigator.userAgent,
   };
   document.getElementById("results").textContent = JSON.stringify(results);
