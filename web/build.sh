@@ -18,6 +18,8 @@ cargo build --manifest-path "$root/Cargo.toml" -p csgkit-wasm --release --target
 version="$(grep -A1 '^name = "wasm-bindgen"$' "$root/Cargo.lock" | sed -n 's/^version = "\(.*\)"$/\1/p')"
 if [[ "$("$tools/bin/wasm-bindgen" --version 2>/dev/null)" != "wasm-bindgen $version" ]]; then
   echo "installing wasm-bindgen-cli $version into $tools"
+  # Not --locked: the CLI's own lock file names a webpki-roots release crates.io no longer
+  # serves (it is only used by the CLI's test runner, to download browsers).
   cargo install wasm-bindgen-cli --version "$version" --root "$tools"
 fi
 

@@ -3,8 +3,9 @@
 //   1. index.html?demo=union runs the built-in union in the worker; its stats in <pre id="stats">
 //      must match `csgkit check --json` on the CLI's union of the same files (volume, triangle
 //      count, valid solid), and the viewer must have drawn the two colours.
-//   2. index.html?demo=bad shows csgkit's error message for a malformed file, the CLI's.
-//   3. index.html?demo=menger (a 31-operand difference) reports progress while the page keeps
+//   2. the Save buttons download the result as GLB, 3MF and OBJ, each the CLI's volume.
+//   3. index.html?demo=bad shows csgkit's error message for a malformed file, the CLI's.
+//   4. index.html?demo=menger (a 31-operand difference) reports progress while the page keeps
 //      drawing frames: the work is off the main thread.
 // Usage: node tests/browser.mjs [--csgkit PATH] [--chromium PATH] [--screenshots DIR]
 import { execFileSync, spawnSync } from "node:child_process";
@@ -95,6 +96,23 @@ await test("union: stats match the CLI, the viewer shows both colours", async ()
   check(pixels.drawn > 0.05 * pixels.total, `only ${pixels.drawn} of ${pixels.total} pixels drawn`);
   check(pixels.red > 0.005 * pixels.total, `too few red pixels (${pixels.red}): the cube's colour is not shown`);
   check(pixels.blue > 0.005 * pixels.total, `too few blue pixels (${pixels.blue}): the sphere's colour is not shown`);
+});
+
+await test("save: the result downloads as GLB, 3MF and OBJ, the CLI's volume each time", async () => {
+  // The page still shows the union of the first test.
+  const cli = JSON.parse(execFileSync(args.csgkit, ["check", "--json", join(scratch, "union.ply")], { encoding: "utf8" }));
+  for (const ext of ["glb", "3mf", "obj"]) {
+    const [download] = await Promise.all([page.waitForEvent("download"), page.click(`button[data-ext="${ext}"]`)]);
+    const path = join(scratch, download.suggestedFilename());
+    await download.saveAs(path);
+    check(path.endsWith(`.${ext}`), `downloaded ${path}`);
+    const saved = JSON.parse(execFileSync(args.csgkit, ["check", "--json", path], { encoding: "utf8" }));
+    // GLB stores float32 coordinates; 3MF and OBJ keep every digit of the float64 result.
+    const tolerance = ext === "glb" ? 1e-6 : 1e-12;
+    const relative = Math.abs(saved.volume - cli.volume) / cli.volume;
+    check(saved.valid_solid, `${ext}: not a valid solid`);
+    check(relative <= tolerance, `${ext}: volume ${saved.volume}, the CLI's ${cli.volume}`);
+  }
 });
 
 await test("bad file: the page shows csgkit's error message", async () => {
