@@ -4,8 +4,9 @@
 //      must match `csgkit check --json` on the CLI's union of the same files (volume, triangle
 //      count, valid solid), and the viewer must have drawn the two colours.
 //   2. the Save buttons download the result as GLB, 3MF and OBJ, each the CLI's volume.
-//   3. index.html?demo=bad shows csgkit's error message for a malformed file, the CLI's.
-//   4. index.html?demo=menger (a 31-operand difference) reports progress while the page keeps
+//   3. two files dropped on the page: their intersection is the CLI's.
+//   4. index.html?demo=bad shows csgkit's error message for a malformed file, the CLI's.
+//   5. index.html?demo=menger (a 31-operand difference) reports progress while the page keeps
 //      drawing frames: the work is off the main thread.
 // Usage: node tests/browser.mjs [--csgkit PATH] [--chromium PATH] [--screenshots DIR]
 import { execFileSync, spawnSync } from "node:child_process";
@@ -113,6 +114,32 @@ await test("save: the result downloads as GLB, 3MF and OBJ, the CLI's volume eac
     check(saved.valid_solid, `${ext}: not a valid solid`);
     check(relative <= tolerance, `${ext}: volume ${saved.volume}, the CLI's ${cli.volume}`);
   }
+});
+
+await test("dropped files: their intersection is the CLI's", async () => {
+  await page.goto(`${server.url}/index.html`);
+  // Drop the two example files on the drop zone, as a person drags them from a folder.
+  await page.evaluate(async () => {
+    const transfer = new DataTransfer();
+    for (const name of ["cube.glb", "sphere.3mf"]) {
+      const bytes = await (await fetch(`examples/${name}`)).arrayBuffer();
+      transfer.items.add(new File([bytes], name));
+    }
+    document.getElementById("drop").dispatchEvent(new DragEvent("drop", { dataTransfer: transfer, bubbles: true, cancelable: true }));
+  });
+  await page.waitForFunction(() => !document.getElementById("run").disabled, null, { timeout: 60_000 });
+  const listed = await page.locator("#operands li").allTextContents();
+  check(listed.length === 2 && listed[0].startsWith("cube.glb"), `operands listed: ${listed}`);
+  await page.selectOption("#op", "intersection");
+  await page.click("#run");
+  await page.waitForFunction(() => document.getElementById("stats").textContent || !document.getElementById("error").hidden, null, { timeout: 120_000 });
+  check(!(await page.locator("#error").textContent()), await page.locator("#error").textContent());
+  const stats = JSON.parse(await page.locator("#stats").textContent());
+  const out = join(scratch, "intersection.ply");
+  execFileSync(args.csgkit, ["intersection", join(examples, "cube.glb"), join(examples, "sphere.3mf"), "--polygons", "--merge-coplanar", "-o", out]);
+  const cli = JSON.parse(execFileSync(args.csgkit, ["check", "--json", out], { encoding: "utf8" }));
+  check(Math.abs(stats.volume - cli.volume) <= 1e-12 * cli.volume, `volume ${stats.volume}, the CLI's ${cli.volume}`);
+  check(stats.triangles === cli.triangles, `triangles ${stats.triangles}, the CLI's ${cli.triangles}`);
 });
 
 await test("bad file: the page shows csgkit's error message", async () => {
