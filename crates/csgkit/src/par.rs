@@ -2,7 +2,7 @@
 //! run in sequence without it, for targets without threads (`wasm32-unknown-unknown`, where
 //! the browser page runs the library in one Web Worker).
 //!
-//! Every module writes `use crate::par::*;` where it would write `use crate::par::*;`,
+//! Every module writes `use crate::par::*;` where it would write `use rayon::prelude::*;`,
 //! and `par::join` / `par::scope` / `par::current_num_threads` for rayon's functions, so a
 //! call site reads the same in both builds. Without `parallel`, `par_iter`, `into_par_iter`,
 //! `par_chunks`, `par_sort_*` and `par_extend` are their standard-library counterparts, and
