@@ -143,8 +143,8 @@ $("edges").addEventListener("change", (event) => viewer.setEdges(event.target.ch
 $("show-operands").addEventListener("change", (event) => showOperands(event.target.checked));
 $("show-result").addEventListener("change", (event) => viewer.setVisible("result", event.target.checked));
 
+setBusy(false);
 if (demo) {
   $("example").value = demo;
   post({ type: "example", name: demo }, "loading example");
 }
-setBusy(false);
