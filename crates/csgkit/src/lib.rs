@@ -39,6 +39,7 @@ pub mod kernel;
 pub mod mesh;
 mod operation;
 pub mod ortho;
+mod par;
 pub mod primitives;
 mod progress;
 

@@ -4,9 +4,9 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use web_time::Instant;
 
-use rayon::prelude::*;
+use crate::par::{self, *};
 
 /// A stage of an engine, as reported to a [`Progress`] callback and timed in each engine's
 /// statistics.
@@ -293,7 +293,7 @@ impl Counter<'_> {
 /// scheduler still balances the load, and at most 1024, so a chunk of the costliest items
 /// (exact triangle splits) ends within milliseconds of a cancellation.
 fn chunk_len(items: usize) -> usize {
-    (items / (32 * rayon::current_num_threads())).clamp(1, 1024)
+    (items / (32 * par::current_num_threads())).clamp(1, 1024)
 }
 
 /// Times the consecutive stages of one run.

@@ -48,7 +48,7 @@
 //! `O(T + C log C)` for `T` triangles and `C` column crossings (plus the columns each
 //! triangle's bounding box covers); memory `O(C)`, that is, proportional to the surface.
 
-use rayon::prelude::*;
+use crate::par::*;
 use robust::{Coord, Coord3D, orient2d, orient3d};
 
 use super::column::{Column, Interval};

@@ -17,7 +17,7 @@
 //! Cost: `O(Σ list lengths)` over the finer common tiling of the two operands. The output does
 //! not depend on the thread count: roots are computed independently and collected in key order.
 
-use rayon::prelude::*;
+use crate::par::{self, *};
 
 use super::brick::Brick;
 use super::grid::Grid;
@@ -90,7 +90,7 @@ impl Solid {
             }
             _ => {
                 let (left, right) = operands.split_at(operands.len() / 2);
-                let (l, r) = rayon::join(|| Self::op_all(left, op), || Self::op_all(right, op));
+                let (l, r) = par::join(|| Self::op_all(left, op), || Self::op_all(right, op));
                 let (l, r) = (
                     l?.expect("left half is not empty"),
                     r?.expect("right half is not empty"),

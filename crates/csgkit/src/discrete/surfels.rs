@@ -21,7 +21,7 @@
 //! are lattice planes `fl(k·h)`. Deterministic: columns are visited in sorted order.
 //! Cost: `O(F)` for `F` unit faces, plus a hash map of the footprint's finest columns.
 
-use rayon::prelude::*;
+use crate::par::*;
 use rustc_hash::FxHashMap;
 
 use super::column::Column;

@@ -30,7 +30,7 @@
 
 use std::collections::BTreeMap;
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use super::brick::{BRICK_SIDE, Brick, BrickError};
 use super::column::{Column, ColumnError};

@@ -11,7 +11,7 @@
 //!
 //! [`certify`]: super::certify
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::kernel::round_point;
 use crate::mesh::{Mesh, MeshParts};

@@ -4,6 +4,7 @@
 use crate::Operation;
 use crate::kernel::Point3;
 use crate::mesh::{FaceMode, Mesh};
+use crate::par;
 use crate::progress::{Cancelled, Progress, Stage, StageClock};
 
 use super::assemble::Rounded;
@@ -232,7 +233,7 @@ pub fn boolean_expression(
     // start on a worker thread, where rayon splits work onto its own queue, instead of each
     // loop injecting its job from outside and blocking until a worker wakes (dozens of
     // thread hand-overs, which cost more than the whole boolean of two small operands).
-    rayon::scope(|_| run_expression(expression, operands, options, progress))
+    par::scope(|_| run_expression(expression, operands, options, progress))
 }
 
 /// [`boolean_expression`] on a worker thread of the pool.

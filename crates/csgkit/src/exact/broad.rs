@@ -7,7 +7,7 @@
 //! queried against itself, keeping pairs of different operands. Output order is
 //! deterministic (the BVH queries are), then sorted.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::index::{Aabb, Bvh};
 

@@ -35,7 +35,7 @@
 //! O(1) exact tests per patch edge on another operand, and one ray per patch that needs one
 //! (a BVH when there are many, a parallel scan when there are few).
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane};

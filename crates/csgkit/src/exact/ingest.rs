@@ -37,7 +37,7 @@
 //! One hash pass to weld, one parallel sort of the `3 n` half-edges for the edge checks and
 //! the neighbour table that classification floods across.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::index::Aabb;
 use crate::kernel::Point3;
@@ -218,7 +218,8 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
             let range = operand_starts[k] as usize..operand_starts[k + 1] as usize;
             (triangles[range].par_iter())
                 .map(|t| Aabb::from_points(t.positions().iter()))
-                .reduce(|| Aabb::EMPTY, |a, b| a.union(&b))
+                .reduce_with(|a, b| a.union(&b))
+                .unwrap_or(Aabb::EMPTY)
         })
         .collect();
     let mut input = Input {

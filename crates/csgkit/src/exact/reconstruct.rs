@@ -46,7 +46,7 @@
 //! those alone, in time linear in their number. Coplanar merging looks at every edge of the
 //! kept sub-triangles once.
 
-use rayon::prelude::*;
+use crate::par::*;
 use rustc_hash::FxHashMap;
 
 use crate::kernel::{Axis, Point, Sign, compare_along, orient2d_projected, orient3d};

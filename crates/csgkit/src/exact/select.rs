@@ -19,7 +19,7 @@
 //! opposite ways have exactly one operand inside on either side; either way both sides agree
 //! and the region bounds nothing.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use super::classify::{Label, Labels};
 use super::expression::Expression;

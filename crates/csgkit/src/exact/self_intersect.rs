@@ -67,7 +67,7 @@
 
 use std::cmp::Ordering;
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};

@@ -20,7 +20,7 @@
 //! independent and run in parallel; results are sorted by triangle, so the output does not
 //! depend on the thread count.
 
-use rayon::prelude::*;
+use crate::par::*;
 use rustc_hash::FxHashMap;
 
 use crate::index::Aabb;

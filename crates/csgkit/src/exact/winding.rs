@@ -43,7 +43,7 @@
 //! One [`Bvh`] over the input triangles and one ray per patch: O((n + P) log n) plus the
 //! triangles each ray meets.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{

@@ -14,7 +14,7 @@
 //! # Complexity
 //! O(n log n) for the sort, O(n) for the boxes; memory is at most four node boxes per leaf.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use super::Aabb;
 
@@ -174,7 +174,8 @@ fn morton_order(box_of: &(impl Fn(usize) -> Aabb + Sync), mut ids: Vec<u32>) -> 
     let centres = ids
         .par_iter()
         .map(|&i| Aabb::EMPTY.union_point(&box_of(i as usize).centre()))
-        .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
+        .reduce_with(|a, b| a.union(&b))
+        .unwrap_or(Aabb::EMPTY);
     let mut keyed: Vec<(u64, u32)> = ids
         .par_iter()
         .map(|&i| (morton_code(&box_of(i as usize).centre(), &centres), i))

@@ -17,7 +17,7 @@
 //! runs while the pair's boxes and triangles are still in cache. The order is the same as the
 //! pair lists' order.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use super::bvh_build::LEAF_SIZE;
 use super::{Aabb, Bvh};

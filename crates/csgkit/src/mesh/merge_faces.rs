@@ -46,7 +46,7 @@
 //!
 //! Faces keep the order of their lowest triangle.
 
-use rayon::prelude::*;
+use crate::par::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::kernel::{Axis, Sign, orient2d};

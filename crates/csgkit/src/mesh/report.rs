@@ -25,6 +25,7 @@ use std::borrow::Cow;
 use serde::Serialize;
 
 use super::{Measures, Mesh, Topology};
+use crate::par;
 
 /// Every validity check and measure of a mesh, ready to print or serialize as JSON.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -111,10 +112,10 @@ pub fn analyze(mesh: &Mesh) -> MeshReport {
     };
     // The three analyses are independent; run them side by side (the answer does not depend
     // on the thread count).
-    let (topology, (degenerate, measures)) = rayon::join(
+    let (topology, (degenerate, measures)) = par::join(
         || super::analyze_topology(&welded),
         || {
-            rayon::join(
+            par::join(
                 || super::count_degenerate(&welded),
                 || super::measure(&welded),
             )

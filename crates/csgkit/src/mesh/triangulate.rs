@@ -59,7 +59,7 @@
 //! # Complexity
 //! O(n) per triangle or strictly convex polygon of n corners, O(n log n) per other polygon.
 
-use rayon::prelude::*;
+use crate::par::*;
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation as _};
 

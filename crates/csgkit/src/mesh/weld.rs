@@ -20,7 +20,7 @@
 //! One parallel sort of the vertices by their coordinate bits: O(V log V) work spread over
 //! every core, O(V) memory.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use super::Mesh;
 

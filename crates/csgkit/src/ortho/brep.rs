@@ -31,7 +31,7 @@
 //! Numeric model: ranks and comparisons only. Complexity: O(E log E) per plane, planes of one
 //! orientation in parallel.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::progress::{Progress, Stage};
 

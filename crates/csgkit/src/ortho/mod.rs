@@ -69,8 +69,8 @@ pub use random::random_grid_boxes;
 pub use triangulate::{MeshOptions, MeshOutput, per_material_mesh};
 pub use vox::{VoxBoxes, VoxOptions, read_vox, with_palette_colors};
 
+use crate::par::*;
 use grid::RankedBoxes;
-use rayon::prelude::*;
 
 use crate::mesh::{Mesh, analyze_topology, measure};
 use crate::progress::{Cancelled, Progress, Stage, StageClock};

@@ -20,7 +20,7 @@
 //! lists, where m_k counts the boxes touching plane k; Θ(n³) in the worst case, the
 //! worst-case size of the union's boundary.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use crate::progress::Counter;
 

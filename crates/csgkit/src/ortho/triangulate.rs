@@ -19,7 +19,7 @@
 //! into spade's range when needed (exact); no coordinate is created.
 //! Complexity: O(n log n) per face.
 
-use rayon::prelude::*;
+use crate::par::*;
 
 use super::manifold::TriangleSoup;
 use super::{BRep, OrthoError};

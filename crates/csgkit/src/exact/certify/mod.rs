@@ -63,7 +63,7 @@
 //! all faces once per call and tests each change against the faces around it. Steps 5–6 run
 //! only when re-rounding and sliver removal cannot help, and cost one exact boolean of the result with itself per round.
 
-use rayon::prelude::*;
+use crate::par::*;
 use rustc_hash::FxHashMap;
 
 use crate::index::{Aabb, Bvh};
