@@ -8,17 +8,15 @@ use std::path::PathBuf;
 
 use csgkit::exact::{BooleanOptions, WindingRule};
 use csgkit::mesh::FaceMode;
-use csgkit::ortho::{
-    MeshOptions, VoxOptions, box_union_mesh, parse_boxes, read_vox, with_palette_colors,
-};
-use csgkit::{DiscreteEngine, DiscreteSurface, Engine, ExactEngine, Mesh, Operation};
+use csgkit::ortho::{BoxFile, MeshOptions, box_union_mesh, read_box_file, with_palette_colors};
+use csgkit::{DiscreteEngine, DiscreteSurface, Engine, ErrorKind, ExactEngine, Mesh, Operation};
 use numpy::{AllowTypeChange, PyArrayLikeDyn};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::detach::detached;
-use crate::errors::{self, Kind};
+use crate::errors;
 use crate::mesh::{PyMesh, extract_operands};
 
 /// The options of the exact booleans, from keyword arguments.
@@ -216,68 +214,41 @@ shorthand!(
     "The points in an odd number of the meshes, exactly: `boolean('xor', meshes)`."
 );
 
-/// Boxes and what came with them from a file.
-struct BoxInput {
-    boxes: Vec<[f64; 6]>,
-    /// The palette index of each box (a `.vox` file).
-    materials: Option<Vec<u32>>,
-    palette: Option<Vec<csgkit::Rgba>>,
+/// The boxes of an (n, 6) array of `[x0, y0, z0, x1, y1, z1]` rows.
+fn boxes_of_array(boxes: &Bound<'_, PyAny>) -> PyResult<BoxFile> {
+    let array: PyArrayLikeDyn<'_, f64, AllowTypeChange> = boxes
+        .extract()
+        .map_err(|error| errors::input(format!("boxes: {error}")))?;
+    let view = array.as_array();
+    let boxes = match view.shape() {
+        [_, 6] => (view.outer_iter())
+            .map(|b| [b[0], b[1], b[2], b[3], b[4], b[5]])
+            .collect(),
+        [0] => Vec::new(),
+        shape => {
+            return Err(errors::input(format!(
+                "boxes must be an array of shape (n, 6), not {shape:?}"
+            )));
+        }
+    };
+    Ok(BoxFile {
+        boxes,
+        ..BoxFile::default()
+    })
 }
 
-impl BoxInput {
-    /// An (n, 6) array of `[x0, y0, z0, x1, y1, z1]` rows.
-    fn from_array(boxes: &Bound<'_, PyAny>) -> PyResult<Self> {
-        let array: PyArrayLikeDyn<'_, f64, AllowTypeChange> = boxes
-            .extract()
-            .map_err(|error| errors::input(format!("boxes: {error}")))?;
-        let view = array.as_array();
-        let boxes = match view.shape() {
-            [_, 6] => (view.outer_iter())
-                .map(|b| [b[0], b[1], b[2], b[3], b[4], b[5]])
-                .collect(),
-            [0] => Vec::new(),
-            shape => {
-                return Err(errors::input(format!(
-                    "boxes must be an array of shape (n, 6), not {shape:?}"
-                )));
-            }
-        };
-        Ok(BoxInput {
-            boxes,
-            materials: None,
-            palette: None,
-        })
-    }
-
-    /// A MagicaVoxel `.vox` file (by extension or content; model `model` alone if given), or
-    /// a text file of `x0 y0 z0 x1 y1 z1` lines, as `csgkit boxes` reads them.
-    fn from_file(path: PathBuf, model: Option<usize>) -> PyResult<Self> {
-        let read_error = |message: String| {
-            errors::exception(Kind::Read, format!("{}: {message}", path.display()))
-        };
-        let bytes = std::fs::read(&path).map_err(|error| read_error(error.to_string()))?;
-        let is_vox = (path.extension()).is_some_and(|e| e.eq_ignore_ascii_case("vox"))
-            || bytes.starts_with(b"VOX ");
-        if is_vox {
-            let vox = read_vox(&bytes, VoxOptions { model })
-                .map_err(|error| read_error(error.to_string()))?;
-            return Ok(BoxInput {
-                materials: Some(vox.colors.iter().map(|&c| u32::from(c)).collect()),
-                boxes: vox.boxes,
-                palette: vox.palette,
-            });
-        }
-        if model.is_some() {
-            return Err(errors::input("model applies to .vox files only"));
-        }
-        let text = String::from_utf8(bytes).map_err(|_| read_error("not UTF-8 text".into()))?;
-        let boxes = parse_boxes(&text).map_err(|error| read_error(error.to_string()))?;
-        Ok(BoxInput {
-            boxes,
-            materials: None,
-            palette: None,
-        })
-    }
+/// A MagicaVoxel `.vox` file (by extension or content; model `model` alone if given), or a
+/// text file of `x0 y0 z0 x1 y1 z1` lines, as `csgkit boxes` reads them; errors name the file.
+fn boxes_of_file(path: PathBuf, model: Option<usize>) -> PyResult<BoxFile> {
+    let in_file = |kind: ErrorKind, message: &dyn std::fmt::Display| {
+        errors::exception(kind, format!("{}: {message}", path.display()))
+    };
+    let bytes = std::fs::read(&path).map_err(|error| in_file(ErrorKind::Read, &error))?;
+    let vox = (path.extension()).is_some_and(|e| e.eq_ignore_ascii_case("vox"));
+    read_box_file(&bytes, vox, model).map_err(|error| {
+        let error = csgkit::Error::from(error);
+        in_file(error.kind(), &error)
+    })
 }
 
 /// The exact union of axis-aligned boxes through the orthogonal engine, as a mesh of
@@ -305,8 +276,8 @@ pub fn boxes(
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyMesh> {
     let input = match boxes.extract::<PathBuf>() {
-        Ok(path) => BoxInput::from_file(path, model)?,
-        Err(_) => BoxInput::from_array(boxes)?,
+        Ok(path) => boxes_of_file(path, model)?,
+        Err(_) => boxes_of_array(boxes)?,
     };
     let options = MeshOptions {
         triangles: triangles || manifold,

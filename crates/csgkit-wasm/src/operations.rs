@@ -7,14 +7,12 @@
 
 use csgkit::exact::{BooleanOptions, WindingRule};
 use csgkit::mesh::FaceMode;
-use csgkit::ortho::{
-    MeshOptions, VoxOptions, box_union_mesh, parse_boxes, read_vox, with_palette_colors,
-};
+use csgkit::ortho::{BoxFile, MeshOptions, box_union_mesh, read_box_file, with_palette_colors};
 use csgkit::{DiscreteEngine, DiscreteSurface, Engine, ExactEngine, Operation, primitives};
 use js_sys::{Array, Object};
 use wasm_bindgen::prelude::*;
 
-use crate::errors::{self, Kind, Result};
+use crate::errors::{self, Result};
 use crate::mesh::{Mesh, operands};
 use crate::progress::with_progress;
 
@@ -188,56 +186,21 @@ pub fn xor(meshes: &Array, options: Option<Object>) -> Result<Mesh> {
     exact(Operation::Xor, meshes, options)
 }
 
-/// Boxes and what came with them from a file.
-struct BoxInput {
-    boxes: Vec<[f64; 6]>,
-    /// The palette index of each box (a `.vox` file).
-    materials: Option<Vec<u32>>,
-    palette: Option<Vec<csgkit::Rgba>>,
-}
-
-impl BoxInput {
-    /// A `Float64Array` of `x0, y0, z0, x1, y1, z1` per box.
-    fn from_numbers(numbers: &[f64]) -> Result<Self> {
-        if numbers.len() % 6 != 0 {
-            return Err(errors::input(&format!(
-                "boxes holds {} numbers, not six per box",
-                numbers.len()
-            )));
-        }
-        let boxes = (numbers.chunks_exact(6))
-            .map(|b| [b[0], b[1], b[2], b[3], b[4], b[5]])
-            .collect();
-        Ok(BoxInput {
-            boxes,
-            materials: None,
-            palette: None,
-        })
+/// The boxes of a `Float64Array` of `x0, y0, z0, x1, y1, z1` per box.
+fn boxes_of_numbers(numbers: &[f64]) -> Result<BoxFile> {
+    if numbers.len() % 6 != 0 {
+        return Err(errors::input(&format!(
+            "boxes holds {} numbers, not six per box",
+            numbers.len()
+        )));
     }
-
-    /// The bytes of a MagicaVoxel `.vox` file (model `model` alone if given), or of a text
-    /// file of `x0 y0 z0 x1 y1 z1` lines, as `csgkit boxes` reads them.
-    fn from_bytes(bytes: &[u8], model: Option<usize>) -> Result<Self> {
-        if bytes.starts_with(b"VOX ") {
-            let vox = read_vox(bytes, VoxOptions { model }).map_err(errors::from_library)?;
-            return Ok(BoxInput {
-                materials: Some(vox.colors.iter().map(|&c| u32::from(c)).collect()),
-                boxes: vox.boxes,
-                palette: vox.palette,
-            });
-        }
-        if model.is_some() {
-            return Err(errors::input("model applies to .vox files only"));
-        }
-        let text = std::str::from_utf8(bytes)
-            .map_err(|_| errors::exception(Kind::Read, "neither a .vox file nor UTF-8 box text"))?;
-        let boxes = parse_boxes(text).map_err(errors::from_library)?;
-        Ok(BoxInput {
-            boxes,
-            materials: None,
-            palette: None,
-        })
-    }
+    let boxes = (numbers.chunks_exact(6))
+        .map(|b| [b[0], b[1], b[2], b[3], b[4], b[5]])
+        .collect();
+    Ok(BoxFile {
+        boxes,
+        ..BoxFile::default()
+    })
 }
 
 /// The exact union of axis-aligned boxes through the orthogonal engine, as a mesh of maximal
@@ -267,9 +230,9 @@ pub fn boxes(input: &JsValue, options: Option<Object>) -> Result<Mesh> {
     }
     mesh_options.triangles |= mesh_options.manifold;
     let input = if let Some(numbers) = input.dyn_ref::<js_sys::Float64Array>() {
-        BoxInput::from_numbers(&numbers.to_vec())?
+        boxes_of_numbers(&numbers.to_vec())?
     } else if let Some(bytes) = input.dyn_ref::<js_sys::Uint8Array>() {
-        BoxInput::from_bytes(&bytes.to_vec(), model)?
+        read_box_file(&bytes.to_vec(), false, model).map_err(errors::from_library)?
     } else {
         return Err(errors::input(
             "boxes takes a Float64Array of boxes or the bytes (Uint8Array) of a .vox or box text file",

@@ -9,7 +9,7 @@ use crate::discrete::{CombineError, DiscretizeError, GridError, OpError};
 use crate::exact::{BooleanError, SplitError};
 use crate::io::{ReadError, WriteError};
 use crate::mesh::{InvalidMesh, PolygonError};
-use crate::ortho::{BoxesTextError, OrthoError};
+use crate::ortho::{BoxFileError, BoxesTextError, OrthoError};
 use crate::progress::Cancelled;
 
 /// The crate's one error type: what the engine facade returns, and what any caller
@@ -50,6 +50,9 @@ pub enum Error {
     /// A box text file is malformed.
     #[error(transparent)]
     BoxesText(#[from] BoxesTextError),
+    /// A box file (a `.vox` model or box text) could not be read.
+    #[error(transparent)]
+    BoxFile(#[from] BoxFileError),
     /// Cell sizes make no grid of the discrete engine.
     #[error(transparent)]
     Grid(#[from] GridError),
@@ -104,6 +107,62 @@ from_engine_error! {
     OrthoError => Ortho,
     DiscretizeError => Discretize,
     CombineError => Combine,
+}
+
+/// What a caller can do about an [`Error`]: the one classification the bindings raise as
+/// their error classes (the Python package's `csgkit.CsgkitError` and its subclasses, the
+/// JavaScript module's error `name`s).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ErrorKind {
+    /// An operation failed on valid input (a result without a certified f64 form, say).
+    Failed,
+    /// Arrays, operands, names or options the call cannot take.
+    Input,
+    /// A file, or bytes, that could not be read as a mesh or voxel model.
+    Read,
+    /// A file that could not be written, or a mesh its format cannot hold.
+    Write,
+    /// The run was cancelled.
+    Cancelled,
+}
+
+impl ErrorKind {
+    /// The name of the bindings' error class: `CsgkitError`, `InputError`, `ReadError`,
+    /// `WriteError` or `CancelledError`.
+    pub fn class_name(self) -> &'static str {
+        match self {
+            ErrorKind::Failed => "CsgkitError",
+            ErrorKind::Input => "InputError",
+            ErrorKind::Read => "ReadError",
+            ErrorKind::Write => "WriteError",
+            ErrorKind::Cancelled => "CancelledError",
+        }
+    }
+}
+
+impl Error {
+    /// What the caller can do about this error, if anything.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            Error::Cancelled(_) => ErrorKind::Cancelled,
+            Error::Read(_) => ErrorKind::Read,
+            Error::Write(_) => ErrorKind::Write,
+            Error::InvalidMesh(_)
+            | Error::Polygon(_)
+            | Error::Grid(_)
+            | Error::BoxesText(_)
+            | Error::BoxFile(BoxFileError::ModelOfText)
+            | Error::Unsupported { .. }
+            | Error::Boolean(BooleanError::InvalidOperand(_) | BooleanError::NoOperands)
+            | Error::Combine(CombineError::Operand { .. })
+            | Error::Ortho(OrthoError::NonFinite { .. } | OrthoError::MaterialCount { .. }) => {
+                ErrorKind::Input
+            }
+            Error::Ortho(OrthoError::Vox { .. }) | Error::BoxFile(_) => ErrorKind::Read,
+            _ => ErrorKind::Failed,
+        }
+    }
 }
 
 impl From<CsgError> for Error {

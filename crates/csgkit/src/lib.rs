@@ -46,7 +46,7 @@ mod progress;
 pub use engine::{
     DiscreteEngine, DiscreteSurface, Engine, ExactEngine, OrthoEngine, OrthoStats, Output, Stats,
 };
-pub use error::Error;
+pub use error::{Error, ErrorKind};
 pub use exact::{
     Contact, Feature, Intersection, PointKey, SelfIntersections, Split, SplitError, Triangle,
     TriangleEdge, intersect_triangles, self_intersections, split_triangle,

@@ -11,10 +11,10 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 use csgkit::ortho::{
-    BRep, MeshOptions, MeshOutput, VoxOptions, box_union_per_material, box_union_timed,
-    parse_boxes, per_material_mesh, read_vox, with_palette_colors,
+    BRep, BoxFile, MeshOptions, MeshOutput, box_union_per_material, box_union_timed,
+    per_material_mesh, read_box_file, with_palette_colors,
 };
-use csgkit::{Mesh, Rgba, Stage, WriteOptions};
+use csgkit::{Mesh, Stage, WriteOptions};
 
 use crate::progress::{seconds_of, with_bar};
 
@@ -51,14 +51,6 @@ pub struct BoxesArgs {
     /// In a `.vox` file, take model N alone (0-based), ignoring the scene graph.
     #[arg(long, value_name = "N")]
     pub model: Option<usize>,
-}
-
-/// Boxes, their materials (if any) and the palette, as read from the input.
-struct Input {
-    boxes: Vec<[f64; 6]>,
-    materials: Option<Vec<u32>>,
-    palette: Option<Vec<Rgba>>,
-    voxels: Option<usize>,
 }
 
 /// Counts and seconds for `--stats`.
@@ -112,36 +104,14 @@ pub fn run(args: &BoxesArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn read_input(path: &Path, model: Option<usize>) -> anyhow::Result<Input> {
+fn read_input(path: &Path, model: Option<usize>) -> anyhow::Result<BoxFile> {
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    let is_vox = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("vox"))
-        || bytes.starts_with(b"VOX ");
-    if is_vox {
-        let read = read_vox(&bytes, VoxOptions { model })
-            .with_context(|| format!("reading {}", path.display()))?;
-        return Ok(Input {
-            materials: Some(read.colors.iter().map(|&c| u32::from(c)).collect()),
-            boxes: read.boxes,
-            palette: read.palette,
-            voxels: Some(read.voxel_count),
-        });
-    }
-    anyhow::ensure!(model.is_none(), "--model applies to .vox input only");
-    let text = String::from_utf8(bytes)
-        .with_context(|| format!("{} is not UTF-8 text", path.display()))?;
-    let boxes = parse_boxes(&text).with_context(|| format!("reading {}", path.display()))?;
-    Ok(Input {
-        boxes,
-        materials: None,
-        palette: None,
-        voxels: None,
-    })
+    let vox = (path.extension()).is_some_and(|e| e.eq_ignore_ascii_case("vox"));
+    read_box_file(&bytes, vox, model).with_context(|| format!("reading {}", path.display()))
 }
 
 fn build_mesh(
-    input: &Input,
+    input: &BoxFile,
     per_material: bool,
     options: MeshOptions,
     report: &mut Report,
@@ -179,11 +149,11 @@ fn build_mesh(
     Ok(out)
 }
 
-fn stats_json(input: &Input, r: &Report, mesh: &Mesh, op_seconds: f64) -> serde_json::Value {
+fn stats_json(input: &BoxFile, r: &Report, mesh: &Mesh, op_seconds: f64) -> serde_json::Value {
     serde_json::json!({
         "input_boxes": input.boxes.len(),
         "dropped_boxes": r.dropped,
-        "voxels": input.voxels,
+        "voxels": input.voxel_count,
         "solids": r.solids,
         "brep_vertices": r.vertices,
         "brep_faces": r.faces,

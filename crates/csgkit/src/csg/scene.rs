@@ -35,9 +35,7 @@ use crate::Operation;
 use crate::io::{ReadError, read_mesh};
 use crate::mesh::Affine;
 use crate::mesh::Mesh;
-use crate::ortho::{
-    MeshOptions, VoxOptions, box_union, box_union_with_materials, parse_boxes, read_vox,
-};
+use crate::ortho::{MeshOptions, box_union, box_union_with_materials, read_box_file};
 use crate::primitives::{cuboid, cylinder, uv_sphere};
 
 /// Why a scene could not be read. Every variant names the file or the JSON path at fault.
@@ -304,23 +302,17 @@ fn primitive_mesh(kind: &str, body: &Value, at: &str) -> Result<Mesh, SceneError
 fn boxes(path: &Path, at: &str) -> Result<Mesh, SceneError> {
     let bytes =
         std::fs::read(path).map_err(|e| bad(at, format!("cannot read {}: {e}", path.display())))?;
-    let is_vox = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("vox"));
-    let brep = if is_vox {
-        let read = read_vox(&bytes, VoxOptions::default())
-            .map_err(|e| bad(at, format!("{}: {e}", path.display())))?;
-        let materials: Vec<u32> = read.colors.iter().map(|&c| u32::from(c)).collect();
-        box_union_with_materials(&read.boxes, &materials)
-    } else {
-        let text = String::from_utf8_lossy(&bytes);
-        let boxes = parse_boxes(&text).map_err(|e| bad(at, format!("{}: {e}", path.display())))?;
-        box_union(&boxes)
+    let vox = (path.extension()).is_some_and(|e| e.eq_ignore_ascii_case("vox"));
+    let in_file = |e: &dyn std::fmt::Display| bad(at, format!("{}: {e}", path.display()));
+    let file = read_box_file(&bytes, vox, None).map_err(|e| in_file(&e))?;
+    let brep = match &file.materials {
+        Some(materials) => box_union_with_materials(&file.boxes, materials),
+        None => box_union(&file.boxes),
     };
-    let brep = brep.map_err(|e| bad(at, format!("{}: {e}", path.display())))?;
+    let brep = brep.map_err(|e| in_file(&e))?;
     let mesh = brep
         .to_mesh(MeshOptions::default())
-        .map_err(|e| bad(at, format!("{}: {e}", path.display())))?;
+        .map_err(|e| in_file(&e))?;
     Ok(mesh.mesh)
 }
 

@@ -49,6 +49,7 @@
 //! Σ_planes O(m_k log m_k + runs) for the sweep, O(E log E) for the loops, and the
 //! triangulation O(n log n) per face; the worst case is Θ(n³), the worst-case output size.
 
+mod box_file;
 mod boxes_text;
 mod brep;
 mod coverage;
@@ -62,6 +63,7 @@ mod sweep;
 mod triangulate;
 mod vox;
 
+pub use box_file::{BoxFile, BoxFileError, read_box_file};
 pub use boxes_text::{BoxesTextError, parse_boxes};
 pub use brep::Orientation;
 pub use octant::{DegreeConvention, OCTANT_TABLE, OctantInfo};
