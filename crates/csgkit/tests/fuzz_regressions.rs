@@ -63,3 +63,57 @@ fn obj_group_name_ending_in_a_backslash_round_trips() {
 fn obj_content_in_an_stl_file_round_trips() {
     checks::check_reader(&input("read_stl", "obj_in_an_stl_file"), Format::Stl);
 }
+
+/// An OpenSCAD `cylinder` with radius 0 at both ends: its side faces had two corners and
+/// building the leaf panicked. It is now no solid, as in OpenSCAD.
+#[test]
+fn openscad_cylinder_of_no_radius_is_empty() {
+    checks::check_openscad_csg(&input("read_openscad_csg", "cylinder_of_no_radius"));
+}
+
+/// The same inside nested groups, with other arguments around it.
+#[test]
+fn openscad_cylinder_of_no_radius_in_groups_is_empty() {
+    checks::check_openscad_csg(&input(
+        "read_openscad_csg",
+        "cylinder_of_no_radius_in_groups",
+    ));
+}
+
+/// A polygon point written `666…e666…`: the literal parsed as an infinity, and the exact
+/// predicates of the prism built from it were given a non-finite coordinate. Literals beyond
+/// f64's range are now an error naming their line.
+#[test]
+fn openscad_number_beyond_f64_is_an_error() {
+    checks::check_openscad_csg(&input("read_openscad_csg", "number_beyond_f64"));
+}
+
+/// `cylinder($fn = 2444…4)`: the fragment count saturated to 2³² − 1 and building the
+/// cylinder asked for 64 GiB. A `$fn` or `slices` above 10 000 is now an error.
+#[test]
+fn openscad_huge_fragment_count_is_an_error() {
+    checks::check_openscad_csg(&input("read_openscad_csg", "huge_fn"));
+}
+
+/// Every other input the `read_openscad_csg` run found (`other_*`), replayed: each reads, or
+/// fails with an error naming its line.
+#[test]
+fn openscad_inputs_found_by_fuzzing_read_or_fail_cleanly() {
+    let folder = crate::util::repo_data("fuzz/read_openscad_csg");
+    let mut replayed = 0;
+    for entry in std::fs::read_dir(&folder).expect("the fuzz inputs are in the repository") {
+        let path = entry.expect("a readable folder").path();
+        if path
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("other_"))
+        {
+            checks::check_openscad_csg(&std::fs::read(&path).expect("a readable input"));
+            replayed += 1;
+        }
+    }
+    assert!(
+        replayed >= 20,
+        "only {replayed} inputs in {}",
+        folder.display()
+    );
+}

@@ -20,6 +20,13 @@
 //! - A circle's points are at `360° · i / n` from angle 0, counter-clockwise.
 //! - A sphere has `(n + 1) / 2` rings at polar angles `180° · (i + ½) / rings`.
 //! - Angles are in degrees with OpenSCAD's exact values at multiples of 30° and 45°.
+//! - `$fa` and `$fs` below 0.01 count as 0.01, as in OpenSCAD; a cylinder without height,
+//!   or without radius at both ends, is no solid.
+//!
+//! # Limits
+//! A number literal beyond f64's range, a negative or non-finite cylinder radius, and a `$fn`
+//! or `slices` above 10 000 (a sphere of that many fragments has 5·10⁷ faces) are errors
+//! naming their line, where OpenSCAD would render nothing, render garbage, or run out of memory.
 
 use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
 use super::tree::{Node, NodeKind};
@@ -180,6 +187,13 @@ fn tokenize(text: &str) -> Result<Vec<(Token, usize)>, OpenScadError> {
                     line,
                     message: format!("{word:?} is not a number"),
                 })?;
+                // A literal beyond f64's range parses as an infinity, which no solid holds.
+                if !value.is_finite() {
+                    return Err(OpenScadError {
+                        line,
+                        message: format!("{word} is beyond the range of f64 numbers"),
+                    });
+                }
                 out.push((Token::Number(value), line));
             }
             c if c.is_alphabetic() || c == '_' || c == '$' => {
@@ -510,7 +524,7 @@ fn build(
         "sphere" => {
             let r = number(argument(args, "r", 0)).unwrap_or(1.0);
             solid(leaf(
-                uv_sphere([0.0; 3], r, fragments(args).count(r)),
+                uv_sphere([0.0; 3], r, fragments(args).map_err(bad)?.count(r)),
                 name,
                 line,
             ))
@@ -524,7 +538,16 @@ fn build(
                 argument(args, "center", usize::MAX),
                 Some(Value::Bool(true))
             );
-            let n = fragments(args).count(r1.max(r2));
+            if ![h, r1, r2].iter().all(|x| x.is_finite()) || r1 < 0.0 || r2 < 0.0 {
+                return Err(bad(format!(
+                    "cylinder needs a finite height and finite radii of at least 0, not h = {h}, r1 = {r1}, r2 = {r2}"
+                )));
+            }
+            // As OpenSCAD: no height, or no radius at either end, is no solid.
+            if h <= 0.0 || (r1 == 0.0 && r2 == 0.0) {
+                return Ok(solid(leaf(Mesh::new(), name, line)));
+            }
+            let n = fragments(args).map_err(bad)?.count(r1.max(r2));
             let z = if centre { -h / 2.0 } else { 0.0 };
             solid(leaf(cylinder(r1, r2, z, z + h, n), name, line))
         }
@@ -583,9 +606,10 @@ fn build(
         "circle" => {
             let r = number(argument(args, "r", 0)).unwrap_or(1.0);
             let positive = r > 0.0 && r.is_finite();
+            let n = fragments(args).map_err(bad)?.count(r);
             flat(
                 &positive
-                    .then(|| circle(r, fragments(args).count(r)))
+                    .then(|| circle(r, n))
                     .into_iter()
                     .collect::<Vec<_>>(),
             )
@@ -632,7 +656,7 @@ fn build(
             } else {
                 Extrusion::Rotate(RotateExtrude {
                     angle: number(argument(args, "angle", usize::MAX)).unwrap_or(360.0),
-                    fragments: fragments(args),
+                    fragments: fragments(args).map_err(bad)?,
                 })
             };
             solid(Node {
@@ -667,6 +691,11 @@ fn linear_extrude(args: &[(Option<String>, Value)]) -> Result<Extrusion, String>
     };
     // OpenSCAD truncates slices and ignores fewer than 1, and clamps negative scales to 0.
     let slices = number(argument(args, "slices", usize::MAX)).filter(|&s| s >= 1.0);
+    if let Some(slices) = slices.filter(|&s| s > MAX_FRAGMENTS) {
+        return Err(format!(
+            "slices = {slices} asks for more than the {MAX_FRAGMENTS} slices csgkit builds"
+        ));
+    }
     let scale = scale.map(|s: f64| s.max(0.0));
     Ok(Extrusion::Linear(LinearExtrude {
         height,
@@ -677,7 +706,7 @@ fn linear_extrude(args: &[(Option<String>, Value)]) -> Result<Extrusion, String>
         twist: number(argument(args, "twist", usize::MAX)).unwrap_or(0.0),
         slices: slices.map(|s| s as u32),
         scale,
-        fragments: fragments(args),
+        fragments: fragments(args)?,
     }))
 }
 
@@ -700,15 +729,27 @@ fn points_2d(value: Option<&Value>) -> Option<Vec<[f64; 2]>> {
     }
 }
 
-/// The node's `$fn`, `$fa`, `$fs`.
-fn fragments(args: &[(Option<String>, Value)]) -> Fragments {
+/// The most fragments of a circle (`$fn`) or slices of an extrusion csgkit builds: a sphere
+/// of this many fragments already has 5·10⁷ faces, and a count from a typo (`$fn = 1e9`)
+/// would exhaust memory rather than fail.
+const MAX_FRAGMENTS: f64 = 10_000.0;
+
+/// The node's `$fn`, `$fa`, `$fs`; `$fa` and `$fs` below 0.01 count as 0.01, as in
+/// OpenSCAD, and a `$fn` above [`MAX_FRAGMENTS`] is an error.
+fn fragments(args: &[(Option<String>, Value)]) -> Result<Fragments, String> {
     let get = |name: &str| number(argument(args, name, usize::MAX));
     let default = Fragments::default();
-    Fragments {
-        fn_: get("$fn").unwrap_or(default.fn_),
-        fa: get("$fa").unwrap_or(default.fa),
-        fs: get("$fs").unwrap_or(default.fs),
+    let fn_ = get("$fn").unwrap_or(default.fn_);
+    if fn_ > MAX_FRAGMENTS {
+        return Err(format!(
+            "$fn = {fn_} asks for more than the {MAX_FRAGMENTS} fragments per circle csgkit builds"
+        ));
     }
+    Ok(Fragments {
+        fn_,
+        fa: get("$fa").unwrap_or(default.fa).max(0.01),
+        fs: get("$fs").unwrap_or(default.fs).max(0.01),
+    })
 }
 
 /// OpenSCAD's cylinder (or cone, where a radius is 0) between heights `z1` and `z2`.
@@ -756,11 +797,11 @@ mod tests {
     #[test]
     fn fragments_follow_openscad() {
         let args = |fn_: f64| vec![(Some("$fn".to_owned()), Value::Number(fn_))];
-        assert_eq!(fragments(&args(0.0)).count(10.0), 30); // min(360/12, 2π·10/2 = 31.4)
-        assert_eq!(fragments(&args(0.0)).count(1.0), 5);
-        assert_eq!(fragments(&args(7.0)).count(1.0), 7);
-        assert_eq!(fragments(&args(2.0)).count(1.0), 3);
-        assert_eq!(fragments(&args(50.0)).count(1e-7), 3);
+        assert_eq!(fragments(&args(0.0)).unwrap().count(10.0), 30); // min(360/12, 2π·10/2 = 31.4)
+        assert_eq!(fragments(&args(0.0)).unwrap().count(1.0), 5);
+        assert_eq!(fragments(&args(7.0)).unwrap().count(1.0), 7);
+        assert_eq!(fragments(&args(2.0)).unwrap().count(1.0), 3);
+        assert_eq!(fragments(&args(50.0)).unwrap().count(1e-7), 3);
         assert_eq!(sin_degrees(30.0), 0.5);
         assert_eq!(cos_degrees(90.0), 0.0);
         assert_eq!(cos_degrees(180.0), -1.0);
@@ -800,5 +841,61 @@ mod tests {
         assert_eq!(children.len(), 1);
         let tree = parse_openscad_csg("cube(size = 1);\n!sphere(r = 1);").unwrap();
         assert!(matches!(tree.kind, NodeKind::Mesh { .. }));
+    }
+
+    #[test]
+    fn cylinders_without_height_or_radius_are_empty_and_bad_ones_are_errors() {
+        for text in [
+            "cylinder(h = 1, r = 0);",
+            "cylinder(h = 0, r = 1);",
+            "cylinder(h = -2, r1 = 1, r2 = 2);",
+        ] {
+            let tree = parse_openscad_csg(text).unwrap();
+            // The file's statements are united; this one is the union's only child.
+            let leaf = match &tree.kind {
+                NodeKind::Apply(Operation::Union, children) if children.len() == 1 => {
+                    &children[0].kind
+                }
+                kind => kind,
+            };
+            let NodeKind::Mesh { mesh, .. } = leaf else {
+                panic!("{text}: {leaf:?}")
+            };
+            assert!(mesh.is_empty(), "{text}");
+        }
+        let err =
+            parse_openscad_csg("group() {\n  cylinder(h = 1, r1 = -1, r2 = 1);\n}").unwrap_err();
+        assert_eq!(err.line, 2);
+        assert!(err.message.contains("radii of at least 0"), "{err}");
+    }
+
+    #[test]
+    fn numbers_beyond_f64_are_errors_naming_their_line() {
+        let err = parse_openscad_csg("cube(size = 1);\ncube(size = 1e999);").unwrap_err();
+        assert_eq!(err.line, 2);
+        assert_eq!(err.message, "1e999 is beyond the range of f64 numbers");
+    }
+
+    #[test]
+    fn fragment_counts_beyond_the_limit_are_errors() {
+        let err = parse_openscad_csg("sphere($fn = 1e9, r = 1);").unwrap_err();
+        assert_eq!(err.line, 1);
+        assert!(
+            err.message.starts_with("$fn = 1000000000 asks for more"),
+            "{err}"
+        );
+        let extrude = "linear_extrude(height = 1, slices = 1e7) { square(size = 1); }";
+        assert!(
+            parse_openscad_csg(extrude)
+                .unwrap_err()
+                .message
+                .contains("slices")
+        );
+        // $fa and $fs of 0 count as 0.01: at most 360 / 0.01 fragments.
+        let args = vec![
+            (Some("$fa".to_owned()), Value::Number(0.0)),
+            (Some("$fs".to_owned()), Value::Number(0.0)),
+        ];
+        assert_eq!(fragments(&args).unwrap().count(1e6), 36_000);
     }
 }
