@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Builds the page into web/dist: the csgkit-wasm crate for wasm32 (profile wasm-release: release
-# without debug info), its JavaScript glue by wasm-bindgen, the example files (written by that
-# module), and the page's scripts bundled by esbuild with three.js. Everything the page loads is in dist/: it works offline.
+# Builds the page into web/dist: the csgkit-wasm crate for wasm32 in release, its JavaScript
+# glue by wasm-bindgen, the example files (written by that module), and the page's scripts
+# bundled by esbuild with three.js. Everything the page loads is in dist/: it works offline.
 #
 # Needs: the wasm32-unknown-unknown target (`rustup target add wasm32-unknown-unknown`), Node.js
 # and npm. The wasm-bindgen CLI must be the version of the wasm-bindgen crate in Cargo.lock: it
@@ -13,7 +13,7 @@ target="${CARGO_TARGET_DIR:-$root/target}"
 tools="${CSGKIT_TOOLS:-$HOME/.cache/csgkit/tools}"
 dist="$web/dist"
 
-cargo build --manifest-path "$root/Cargo.toml" -p csgkit-wasm --profile wasm-release --target wasm32-unknown-unknown
+cargo build --manifest-path "$root/Cargo.toml" -p csgkit-wasm --release --target wasm32-unknown-unknown
 
 version="$(grep -A1 '^name = "wasm-bindgen"$' "$root/Cargo.lock" | sed -n 's/^version = "\(.*\)"$/\1/p')"
 if [[ "$("$tools/bin/wasm-bindgen" --version 2>/dev/null)" != "wasm-bindgen $version" ]]; then
@@ -26,7 +26,7 @@ fi
 rm -rf "$dist"
 mkdir -p "$dist"
 "$tools/bin/wasm-bindgen" --target web --out-dir "$dist/pkg" \
-  "$target/wasm32-unknown-unknown/wasm-release/csgkit_wasm.wasm"
+  "$target/wasm32-unknown-unknown/release/csgkit_wasm.wasm"
 
 cd "$web"
 if [[ ! -d node_modules || package-lock.json -nt node_modules ]]; then

@@ -1,14 +1,8 @@
 //! `csgkit boxes` and `csgkit demo` end to end: exit codes, outputs and `--stats`.
 
 use std::path::Path;
-use std::process::Command;
 
-fn csgkit(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_csgkit"))
-        .args(args)
-        .output()
-        .expect("the csgkit binary runs")
-}
+use crate::common::csgkit;
 
 /// Counts the `v` and `f` lines of an OBJ file.
 fn obj_counts(path: &Path) -> (usize, usize) {

@@ -1,15 +1,9 @@
 //! The `csgkit` binary end to end: exit codes, `--json`, `--help`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-/// Runs the built binary with `args`.
-fn csgkit(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_csgkit"))
-        .args(args)
-        .output()
-        .expect("the csgkit binary runs")
-}
+use crate::common::csgkit;
 
 /// The closed unit cube of quads kept in the library's test data.
 fn cube() -> String {

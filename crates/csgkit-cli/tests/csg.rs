@@ -4,8 +4,7 @@
 use serde_json::Value;
 use tempfile::TempDir;
 
-mod common;
-use common::{arg, csgkit, csgkit_ok};
+use crate::common::{arg, csgkit, csgkit_ok};
 
 #[test]
 fn a_scene_is_evaluated_with_its_materials_and_counts() {

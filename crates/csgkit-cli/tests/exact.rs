@@ -13,8 +13,7 @@ use csgkit::{WriteOptions, write_mesh};
 use serde_json::Value;
 use tempfile::TempDir;
 
-mod common;
-use common::{arg, csgkit, csgkit_ok};
+use crate::common::{arg, csgkit, csgkit_ok};
 
 /// Writes the box `[min, max]` to `name` in `dir`, in the format its extension names.
 fn cube(dir: &TempDir, name: &str, min: [f64; 3], max: [f64; 3]) -> PathBuf {

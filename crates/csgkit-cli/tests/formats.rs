@@ -9,8 +9,7 @@ use csgkit::primitives::cuboid;
 use csgkit::{Mesh, MeshParts, Rgba, WriteOptions, write_mesh};
 use tempfile::TempDir;
 
-mod common;
-use common::{arg, csgkit, csgkit_ok};
+use crate::common::{arg, csgkit, csgkit_ok};
 
 const RED: Rgba = [255, 0, 0, 255];
 const BLUE: Rgba = [0, 0, 255, 255];

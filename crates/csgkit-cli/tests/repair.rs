@@ -12,8 +12,7 @@ use csgkit::{Mesh, WriteOptions, self_intersections, write_mesh};
 use serde_json::Value;
 use tempfile::TempDir;
 
-mod common;
-use common::{arg, csgkit, csgkit_ok};
+use crate::common::{arg, csgkit, csgkit_ok};
 
 /// The meshes as one: vertices and triangles concatenated, nothing welded or resolved.
 fn one_mesh(parts: &[Mesh]) -> Mesh {

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Where csgkit's exact booleans spend their time: per stage and per source file.
 
-    python3 crates/csgkit/benches/profile.py --csgkit target/release/csgkit \
+    cargo build --profile profiling -p csgkit-cli
+    python3 crates/csgkit/benches/profile.py --csgkit target/profiling/csgkit \
         --cases ../shared/peers/cases [CASE ...] > profile.md
 
 For each peers-harness case (default: one per family), runs the case's expression through the
@@ -11,8 +12,8 @@ sorts the samples by source file, which follows inlined code to the file it came
 kernel's files are its cascade's tiers: interval.rs is the filter, arith.rs the 128-bit
 integer stage (and the big-integer glue), expansion.rs the expansions, num-bigint the big
 integers, and robust the explicit orient2d / orient3d shortcut. Prints Markdown tables.
-Needs `perf` (Debian package linux-perf) and a build with line tables (the release profile has
-`debug = 1`).
+Needs `perf` (Debian package linux-perf) and a build with line tables: the `profiling` profile
+(release with `debug = 1`).
 """
 import argparse
 import json
