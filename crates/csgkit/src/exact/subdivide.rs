@@ -98,9 +98,15 @@ pub(crate) fn intersect_pairs(
     });
     counter.finish()?;
     let intersecting_pairs = found.len();
-    let mut marks: Vec<(u32, Mark)> = found.into_iter().flatten().collect();
-    // Stable: within a triangle, marks keep pair order, which is deterministic.
-    marks.par_sort_by_key(|m| m.0);
+    let marks: Vec<(u32, Mark)> = found.into_iter().flatten().collect();
+    // Grouped by triangle, and within a triangle in pair order, which is deterministic. The
+    // small `(triangle, position)` keys are sorted and each mark (a few hundred bytes) moves
+    // once, where sorting the marks themselves would move each of them log n times.
+    let mut order: Vec<(u32, u32)> = (marks.iter().enumerate())
+        .map(|(i, m)| (m.0, i as u32))
+        .collect();
+    order.par_sort_unstable();
+    let marks = order.iter().map(|&(_, i)| marks[i as usize]).collect();
     Ok(Contacts {
         intersecting_pairs,
         marks,
@@ -276,9 +282,10 @@ pub(crate) fn split(
 /// Global vertex ids of the contact points: an input vertex keeps its id; every other key
 /// gets the next id, in key order (deterministic).
 fn number_points(input: &Input, marks: &[(u32, Mark)]) -> (FxHashMap<PointKey, u32>, Vec<Point>) {
-    let mut keyed: Vec<(PointKey, Point)> = (marks.iter())
-        .filter_map(|&(_, m)| match m {
-            Mark::Point(key, point) if !matches!(key, PointKey::Vertex(_)) => Some((key, point)),
+    // Keys with references to their points: the sort moves small pairs, not the points.
+    let mut keyed: Vec<(PointKey, &Point)> = (marks.iter())
+        .filter_map(|(_, m)| match m {
+            Mark::Point(key, point) if !matches!(key, PointKey::Vertex(_)) => Some((*key, point)),
             _ => None,
         })
         .collect();
@@ -288,7 +295,7 @@ fn number_points(input: &Input, marks: &[(u32, Mark)]) -> (FxHashMap<PointKey, u
     let ids = (keyed.iter().enumerate())
         .map(|(i, (key, _))| (*key, n + i as u32))
         .collect();
-    let points: Vec<Point> = keyed.into_par_iter().map(|(_, p)| simplify(p)).collect();
+    let points: Vec<Point> = keyed.into_par_iter().map(|(_, p)| simplify(*p)).collect();
     (ids, points)
 }
 

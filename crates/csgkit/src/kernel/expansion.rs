@@ -20,9 +20,22 @@
 //! is exact. Components are allowed to be anything finite; only products are checked.
 //!
 //! # Cost
-//! Allocates (one `Vec` per intermediate); runs only when the interval filter cannot decide.
+//! Runs only when the interval filter cannot decide. Components live inline up to
+//! [`INLINE_COMPONENTS`] (every input and most intermediates of the predicates), so the common
+//! expansion allocates nothing; a product reuses two buffers across its partial sums, and a
+//! difference negates on the fly instead of building the negated copy.
+
+use smallvec::SmallVec;
 
 use super::Sign;
+
+/// Components an expansion holds without a heap allocation. The predicates' inputs are one
+/// component; their products and sums of a few terms stay under this; the long expansions of
+/// the deepest implicit predicates spill to the heap as a `Vec` would.
+const INLINE_COMPONENTS: usize = 16;
+
+/// The components of an expansion, by increasing magnitude.
+type Components = SmallVec<[f64; INLINE_COMPONENTS]>;
 
 /// `2^27 + 1`, Veltkamp's splitter for 53-bit significands.
 const SPLITTER: f64 = 134_217_729.0;
@@ -34,7 +47,7 @@ const PRODUCT_FLOOR: f64 = f64::from_bits((1023 - 900) << 52);
 /// An exact sum of f64 components (increasing magnitude, nonoverlapping, no zeros).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Expansion {
-    c: Vec<f64>,
+    c: Components,
     /// False once a product may have lost bits to underflow or overflow: the value is then
     /// unreliable and the caller must use another exact method.
     ok: bool,
@@ -87,7 +100,11 @@ impl Expansion {
     /// The expansion of one f64.
     pub(crate) fn exact(x: f64) -> Self {
         Expansion {
-            c: if x == 0.0 { Vec::new() } else { vec![x] },
+            c: if x == 0.0 {
+                Components::new()
+            } else {
+                smallvec::smallvec![x]
+            },
             ok: x.is_finite(),
         }
     }
@@ -95,7 +112,7 @@ impl Expansion {
     /// An expansion already known to be unreliable (a lossy input conversion).
     pub(crate) fn poisoned() -> Self {
         Expansion {
-            c: Vec::new(),
+            c: Components::new(),
             ok: false,
         }
     }
@@ -111,24 +128,28 @@ impl Expansion {
         })
     }
 
-    fn neg(&self) -> Self {
-        Expansion {
-            c: self.c.iter().map(|x| -x).collect(),
-            ok: self.ok,
-        }
-    }
-
     pub(crate) fn add(&self, o: &Self) -> Self {
+        let mut c = Components::new();
+        sum_zeroelim(&self.c, &o.c, 1.0, &mut c);
         Expansion {
-            c: sum_zeroelim(&self.c, &o.c),
+            c,
             ok: self.ok && o.ok,
         }
     }
 
     pub(crate) fn sub(&self, o: &Self) -> Self {
-        self.add(&o.neg())
+        let mut c = Components::new();
+        sum_zeroelim(&self.c, &o.c, -1.0, &mut c);
+        Expansion {
+            c,
+            ok: self.ok && o.ok,
+        }
     }
 
+    /// The product, as the sum over the shorter expansion's components of the longer one
+    /// scaled by each (Shewchuk's `scale_expansion` and `expansion_sum`), accumulated in two
+    /// buffers that take turns (by index: swapping them would copy their inline arrays)
+    /// rather than one new vector per partial sum.
     pub(crate) fn mul(&self, o: &Self) -> Self {
         let mut ok = self.ok && o.ok;
         let (short, long) = if self.c.len() <= o.c.len() {
@@ -136,27 +157,41 @@ impl Expansion {
         } else {
             (&o.c, &self.c)
         };
-        let mut acc: Vec<f64> = Vec::new();
+        let mut sums = [Components::new(), Components::new()];
+        let mut part = Components::new();
+        let mut current = 0;
         for &b in short {
-            let part = scale_zeroelim(long, b, &mut ok);
-            acc = sum_zeroelim(&acc, &part);
+            scale_zeroelim(long, b, &mut ok, &mut part);
+            let [first, second] = &mut sums;
+            let (acc, next) = if current == 0 {
+                (first, second)
+            } else {
+                (second, first)
+            };
+            sum_zeroelim(acc, &part, 1.0, next);
+            current = 1 - current;
         }
-        Expansion { c: acc, ok }
+        let [first, second] = sums;
+        let c = if current == 0 { first } else { second };
+        Expansion { c, ok }
     }
 }
 
-/// Shewchuk's `fast_expansion_sum_zeroelim`, with `two_sum` in place of the one `fast_two_sum`
-/// whose precondition needs round-to-even reasoning (same result, one less assumption).
-fn sum_zeroelim(e: &[f64], f: &[f64]) -> Vec<f64> {
+/// `h = e + sign · f` (`sign` is ±1, so negating is exact), into `h` (cleared first): Shewchuk's
+/// `fast_expansion_sum_zeroelim`, with `two_sum` in place of the one `fast_two_sum` whose
+/// precondition needs round-to-even reasoning (same result, one less assumption).
+fn sum_zeroelim(e: &[f64], f: &[f64], sign: f64, h: &mut Components) {
+    h.clear();
     if e.is_empty() {
-        return f.to_vec();
+        h.extend(f.iter().map(|x| sign * x));
+        return;
     }
     if f.is_empty() {
-        return e.to_vec();
+        h.extend_from_slice(e);
+        return;
     }
-    let mut h = Vec::with_capacity(e.len() + f.len());
+    h.reserve(e.len() + f.len());
     let (mut ei, mut fi) = (0, 0);
-    // Merge by magnitude: take the smaller of the two current components.
     let next = |ei: &mut usize, fi: &mut usize| -> f64 {
         let take_e = *fi >= f.len() || (*ei < e.len() && e[*ei].abs() < f[*fi].abs());
         if take_e {
@@ -164,7 +199,7 @@ fn sum_zeroelim(e: &[f64], f: &[f64]) -> Vec<f64> {
             e[*ei - 1]
         } else {
             *fi += 1;
-            f[*fi - 1]
+            sign * f[*fi - 1]
         }
     };
     let mut q = next(&mut ei, &mut fi);
@@ -179,12 +214,13 @@ fn sum_zeroelim(e: &[f64], f: &[f64]) -> Vec<f64> {
     if q != 0.0 {
         h.push(q);
     }
-    h
 }
 
-/// Shewchuk's `scale_expansion_zeroelim`: `e * b`, clearing `ok` if a product is not exact.
-fn scale_zeroelim(e: &[f64], b: f64, ok: &mut bool) -> Vec<f64> {
-    let mut h = Vec::with_capacity(2 * e.len());
+/// Shewchuk's `scale_expansion_zeroelim`: `h = e * b` (cleared first), clearing `ok` if a
+/// product is not exact.
+fn scale_zeroelim(e: &[f64], b: f64, ok: &mut bool, h: &mut Components) {
+    h.clear();
+    h.reserve(2 * e.len());
     let (mut q, hh) = two_product(e[0], b, ok);
     if hh != 0.0 {
         h.push(hh);
@@ -204,7 +240,6 @@ fn scale_zeroelim(e: &[f64], b: f64, ok: &mut bool) -> Vec<f64> {
     if q != 0.0 {
         h.push(q);
     }
-    h
 }
 
 #[cfg(test)]
@@ -226,7 +261,7 @@ mod tests {
             .sub(&Expansion::exact(1.0))
             .sub(&Expansion::exact(2f64.powi(-59)));
         assert_eq!(r.sign(), Some(Sign::Positive));
-        assert_eq!(r.c, vec![2f64.powi(-120)]);
+        assert_eq!(r.c.as_slice(), [2f64.powi(-120)]);
         let z = r.sub(&Expansion::exact(2f64.powi(-120)));
         assert_eq!(z.sign(), Some(Sign::Zero));
     }
