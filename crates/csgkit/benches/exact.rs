@@ -1,6 +1,10 @@
-//! Criterion benches of the exact boolean engine: `exact/<op>/spheres/<triangles per sphere>`.
+//! Criterion benches of the exact boolean engine:
+//! - `exact/<op>/spheres/<triangles per sphere>`: the cost that grows with the input;
+//! - `exact/cubes/<case>`: the fixed cost of one boolean, on the two unit cubes of the peers
+//!   harness's `coplanar` family (issue 12's target: under 0.3 ms in any touching
+//!   configuration), since CSG trees and chained operations run thousands of small booleans.
 //!
-//! Inputs: two icospheres of radius 1 (`primitives::icosphere`, 20·4^s triangles), the
+//! Spheres: two icospheres of radius 1 (`primitives::icosphere`, 20·4^s triangles), the
 //! second moved by (0.5, 0.1, 0.05) so the intersection curve crosses triangles in general
 //! position, like the peers harness's `sphere_sphere` family. The operation runs without the
 //! self-intersection check (its cost is the check's, measured by `csgkit check`).
@@ -8,7 +12,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use csgkit::Operation;
 use csgkit::exact::{BooleanOptions, boolean};
-use csgkit::primitives::icosphere;
+use csgkit::primitives::{cuboid, icosphere};
 
 fn spheres(c: &mut Criterion) {
     let mut group = c.benchmark_group("exact");
@@ -32,5 +36,55 @@ fn spheres(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, spheres);
+/// The unit cube `A = [0, 1]³` against `B`, as the peers harness's `coplanar` cases, with the
+/// self-intersection check of the operands (as `csgkit` runs by default).
+fn cubes(c: &mut Criterion) {
+    let mut group = c.benchmark_group("exact/cubes");
+    let a = cuboid([0.0; 3], [1.0; 3]);
+    let cases = [
+        (
+            "shared_face",
+            Operation::Union,
+            [1.0, 0.0, 0.0],
+            [2.0, 1.0, 1.0],
+        ),
+        (
+            "partial_face",
+            Operation::Union,
+            [0.5, 0.5, 1.0],
+            [1.5, 1.5, 2.0],
+        ),
+        (
+            "shared_edge",
+            Operation::Union,
+            [1.0, 1.0, 0.0],
+            [2.0, 2.0, 1.0],
+        ),
+        ("shared_vertex", Operation::Union, [1.0; 3], [2.0; 3]),
+        ("union_itself", Operation::Union, [0.0; 3], [1.0; 3]),
+        (
+            "intersect_itself",
+            Operation::Intersection,
+            [0.0; 3],
+            [1.0; 3],
+        ),
+        ("minus_itself", Operation::Difference, [0.0; 3], [1.0; 3]),
+        (
+            "minus_flush",
+            Operation::Difference,
+            [0.25, 0.25, 0.5],
+            [0.75, 0.75, 1.0],
+        ),
+    ];
+    let options = BooleanOptions::default();
+    for (name, op, min, max) in cases {
+        let b = cuboid(min, max);
+        group.bench_function(name, |bench| {
+            bench.iter(|| boolean(op, &[&a, &b], &options).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, spheres, cubes);
 criterion_main!(benches);

@@ -8,6 +8,15 @@
 //! partial product of Dekker's split stays above `2^(3 * (-200 - 53) - 53) > 2^-1022`.
 //! Outside that range these functions answer through the implicit-point cascade (interval
 //! filter, expansions, big integers), which is exact for every finite input.
+//!
+//! # Small grids
+//! Coplanar and collinear points are the rule in CAD parts, box unions and touching cubes,
+//! and there the answer is zero: `robust`'s filter cannot decide a zero, so every such call
+//! runs its adaptive stages (expansions, several times the cost of the filter). When every
+//! coordinate is a multiple of `2^e` below `2^(e + SPAN)` for a small bit span (integers,
+//! quarter grids, the unit cube), the plain f64 formula has no rounding at all and its sign
+//! is the answer: [`small_grid_span`] finds the span, stopping at the first coordinate that
+//! rules it out (one for points in general position, whose significands use all 53 bits).
 
 use robust::{Coord, Coord3D};
 
@@ -33,6 +42,13 @@ fn in_robust_range(x: f64) -> bool {
 /// triangle), [`Sign::Negative`] when to the right, [`Sign::Zero`] when collinear. Exact for
 /// all finite inputs.
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+    if small_grid_span(a.iter().chain(&b).chain(&c), ORIENT2D_SPAN) {
+        // Differences take SPAN + 1 bits, products twice that, and their difference one more:
+        // 2 (SPAN + 1) + 1 <= 53, so every operation is exact.
+        let (acx, acy) = (a[0] - c[0], a[1] - c[1]);
+        let (bcx, bcy) = (b[0] - c[0], b[1] - c[1]);
+        return Sign::of(acx * bcy - acy * bcx);
+    }
     if a.iter().chain(&b).chain(&c).all(|&x| in_robust_range(x)) {
         let v = robust::orient2d(
             Coord { x: a[0], y: a[1] },
@@ -51,6 +67,17 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
 /// [`Sign::Negative`] above, [`Sign::Zero`] when coplanar. Equals the sign of
 /// `det[a - d; b - d; c - d]`. Exact for all finite inputs.
 pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
+    if small_grid_span(a.iter().chain(&b).chain(&c).chain(&d), ORIENT3D_SPAN) {
+        // Differences take SPAN + 1 bits, the 2×2 minors 2 (SPAN + 1) + 1, the three terms
+        // one more bit each after the products and the sum: 3 (SPAN + 1) + 3 <= 53, so every
+        // operation is exact.
+        let diff = |p: [f64; 3]| [p[0] - d[0], p[1] - d[1], p[2] - d[2]];
+        let ([adx, ady, adz], [bdx, bdy, bdz], [cdx, cdy, cdz]) = (diff(a), diff(b), diff(c));
+        let det = adx * (bdy * cdz - bdz * cdy)
+            + bdx * (cdy * adz - cdz * ady)
+            + cdx * (ady * bdz - adz * bdy);
+        return Sign::of(det);
+    }
     if a.iter()
         .chain(&b)
         .chain(&c)
@@ -65,6 +92,43 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
         return Sign::of(robust::orient3d(cv(a), cv(b), cv(c), cv(d)));
     }
     orient3d_cascade(a, b, c, d)
+}
+
+/// The bit span up to which [`orient2d`] evaluates its formula in plain f64: `2 (25 + 1) + 1 =
+/// 53`.
+const ORIENT2D_SPAN: i32 = 25;
+/// The bit span up to which [`orient3d`] evaluates its formula in plain f64: `3 (15 + 1) + 3 =
+/// 51 <= 53`.
+const ORIENT3D_SPAN: i32 = 15;
+/// Exponents of the lowest and highest set bits allowed on a small grid, so that no product of
+/// three differences underflows or overflows: `3 · -300 > -1022` and `3 · (300 + 2) < 1023`.
+const GRID_EXPONENTS: std::ops::RangeInclusive<i32> = -300..=300;
+
+/// Whether the nonzero coordinates are all multiples of `2^low` below `2^(top + 1)` with
+/// `top - low + 1 <= span` (and both within [`GRID_EXPONENTS`]): the small-grid case of the
+/// [module docs](self). Subnormal numbers are never on a small grid here.
+#[inline]
+fn small_grid_span<'a>(coords: impl Iterator<Item = &'a f64>, span: i32) -> bool {
+    let (mut top, mut low) = (i32::MIN, i32::MAX);
+    for &x in coords {
+        if x == 0.0 {
+            continue;
+        }
+        let bits = x.to_bits();
+        let biased = ((bits >> 52) & 0x7ff) as i32;
+        if biased == 0 {
+            return false;
+        }
+        let exponent = biased - 1023;
+        let significand = (bits & ((1 << 52) - 1)) | (1 << 52);
+        top = top.max(exponent);
+        low = low.min(exponent - 52 + significand.trailing_zeros() as i32);
+        if top - low + 1 > span || !GRID_EXPONENTS.contains(&top) || !GRID_EXPONENTS.contains(&low)
+        {
+            return false;
+        }
+    }
+    true
 }
 
 /// [`orient3d`] through the cascade (for inputs outside `robust`'s safe range).
@@ -98,6 +162,72 @@ mod tests {
         assert_eq!(orient3d(a, b, c, [0.0, 0.0, 1.0]), Sign::Negative);
         assert_eq!(orient3d(a, b, c, [0.0, 0.0, -1.0]), Sign::Positive);
         assert_eq!(orient3d(a, b, c, [5.0, 7.0, 0.0]), Sign::Zero);
+    }
+
+    #[test]
+    fn small_grids_are_recognised_by_their_bit_span() {
+        let grid = |v: &[f64], span| small_grid_span(v.iter(), span);
+        assert!(grid(&[0.0, 1.0, 2.0, 0.25, -3.0], 4));
+        assert!(!grid(&[0.0, 1.0, 2.0, 0.25, -3.0], 3));
+        assert!(grid(&[0.0, 0.0], 1), "zeros alone are on every grid");
+        assert!(!grid(&[0.1], 15), "0.1 uses all 53 bits");
+        assert!(
+            !grid(&[1e-310], 15),
+            "subnormals are left to the other stages"
+        );
+        assert!(!grid(&[2f64.powi(301)], 15));
+        assert!(grid(&[2f64.powi(300), 2f64.powi(290)], 15));
+    }
+
+    /// The plain formula on small grids agrees with the exact cascade, including the zeros it
+    /// exists for, near the largest spans it accepts.
+    #[test]
+    fn small_grid_answers_match_the_cascade() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |bits: u32| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let magnitude = (state >> 11) % (1 << bits);
+            let value = magnitude as f64 * 2f64.powi(-3);
+            if state & 1 == 0 { value } else { -value }
+        };
+        let mut zeros = 0;
+        for round in 0..20_000 {
+            // Spans up to the limits, and tiny grids where coplanar and collinear cases abound.
+            let bits3 = if round % 2 == 0 {
+                2
+            } else {
+                ORIENT3D_SPAN as u32 - 1
+            };
+            let p3 = |next: &mut dyn FnMut(u32) -> f64| [next(bits3), next(bits3), next(bits3)];
+            let (a, b, c, d) = (p3(&mut next), p3(&mut next), p3(&mut next), p3(&mut next));
+            let coords = || a.iter().chain(&b).chain(&c).chain(&d);
+            assert!(
+                small_grid_span(coords(), ORIENT3D_SPAN),
+                "{a:?} {b:?} {c:?} {d:?}"
+            );
+            let fast = orient3d(a, b, c, d);
+            assert_eq!(
+                fast,
+                orient3d_cascade(a, b, c, d),
+                "{a:?} {b:?} {c:?} {d:?}"
+            );
+            zeros += usize::from(fast == Sign::Zero);
+            let bits2 = if round % 2 == 0 {
+                2
+            } else {
+                ORIENT2D_SPAN as u32 - 1
+            };
+            let p2 = |next: &mut dyn FnMut(u32) -> f64| [next(bits2), next(bits2)];
+            let (a, b, c) = (p2(&mut next), p2(&mut next), p2(&mut next));
+            assert_eq!(
+                orient2d(a, b, c),
+                orient2d_cascade(a, b, c),
+                "{a:?} {b:?} {c:?}"
+            );
+        }
+        assert!(zeros > 100, "the tiny grids give coplanar cases: {zeros}");
     }
 
     #[test]
