@@ -229,24 +229,16 @@ impl PyMesh {
         state.set_item("corners", self.corners.bind(py))?;
         state.set_item(
             "face_starts",
-            self.face_starts
-                .as_deref()
-                .map(|s| PyArray1::from_slice(py, s)),
+            optional_array(py, self.face_starts.as_deref()),
         )?;
         state.set_item(
             "face_materials",
-            attributes
-                .face_materials
-                .as_deref()
-                .map(|s| PyArray1::from_slice(py, s)),
+            optional_array(py, attributes.face_materials.as_deref()),
         )?;
         state.set_item("materials", &attributes.materials)?;
         state.set_item(
             "face_groups",
-            attributes
-                .face_groups
-                .as_deref()
-                .map(|s| PyArray1::from_slice(py, s)),
+            optional_array(py, attributes.face_groups.as_deref()),
         )?;
         state.set_item("groups", &attributes.groups)?;
         state.set_item(
@@ -389,12 +381,20 @@ fn values<T: Element + Copy>(object: &Bound<'_, PyAny>) -> PyResult<Option<Vec<T
     Ok(Some(array.as_array().iter().copied().collect()))
 }
 
+/// An optional column as an array (`None` stays `None`).
+fn optional_array<'py, T: Element + Copy>(
+    py: Python<'py>,
+    values: Option<&[T]>,
+) -> Option<Bound<'py, PyArray1<T>>> {
+    values.map(|values| PyArray1::from_slice(py, values))
+}
+
 /// Rows of `K` values flattened into a 1-D array (a copy), for pickling.
 fn flat_rows<'py, T: Element + Copy, const K: usize>(
     py: Python<'py>,
     rows: Option<&[[T; K]]>,
 ) -> Option<Bound<'py, PyArray1<T>>> {
-    rows.map(|rows| PyArray1::from_slice(py, rows.as_flattened()))
+    optional_array(py, rows.map(<[[T; K]]>::as_flattened))
 }
 
 /// Values taken `K` at a time, as [`flat_rows`] wrote them.

@@ -761,12 +761,11 @@ fn drills(count: usize) -> Vec<Mesh> {
 }
 
 /// Steps of [`cuts_through_files_match_one_n_ary_difference`].
-const FILE_CHAIN_STEPS: usize = 16;
+const FILE_CHAIN_STEPS: usize = 30;
 
 /// Sides of each drill: fewer than the 48 of `scripts/chain_peers.py` (which runs 40 steps
-/// of those, the long chain), so the 16 steps, whose triangle count grows with every cut, fit
-/// in the test suite's time: every operand is validated whole, and the last of 30 steps took
-/// 2 s each.
+/// of those), so the 30 steps, whose triangle count grows with every cut, fit in the test
+/// suite's time.
 const DRILL_SIDES: u32 = 16;
 
 /// The cube `[-1, 1]³` minus drills one at a time, each result written to an OBJ file and

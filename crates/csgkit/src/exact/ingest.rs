@@ -322,8 +322,11 @@ fn coincidence_candidates(input: &Input) -> Vec<u32> {
     (0..input.triangles.len())
         .into_par_iter()
         .filter(|&t| {
-            (input.neighbours[3 * t..3 * t + 3].iter())
-                .any(|&n| n == NO_NEIGHBOUR || sorted(n as usize) == sorted(t))
+            let links = &input.neighbours[3 * t..3 * t + 3];
+            links.contains(&NO_NEIGHBOUR) || {
+                let own = sorted(t);
+                links.iter().any(|&n| sorted(n as usize) == own)
+            }
         })
         .map(|t| t as u32)
         .collect()

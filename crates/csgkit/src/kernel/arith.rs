@@ -170,8 +170,14 @@ impl Big {
 
 /// The exponent `k` with `2^k <= |x| < 2^(k+1)` for finite nonzero `x`.
 pub(crate) fn exponent(x: f64) -> i32 {
-    let (m, e) = decompose(x);
-    e + (63 - m.unsigned_abs().leading_zeros() as i32)
+    bit_range(x).1
+}
+
+/// The exponents of the lowest and the highest set bit of finite nonzero `x`: `x = m · 2^low`
+/// with `m` odd, and `2^top <= |x| < 2^(top + 1)`.
+pub(crate) fn bit_range(x: f64) -> (i32, i32) {
+    let (m, low) = decompose(x);
+    (low, low + (63 - m.unsigned_abs().leading_zeros() as i32))
 }
 
 /// `x * 2^s` as an expansion, poisoned if the scaling is not exact.

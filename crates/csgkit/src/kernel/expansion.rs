@@ -129,17 +129,17 @@ impl Expansion {
     }
 
     pub(crate) fn add(&self, o: &Self) -> Self {
-        let mut c = Components::new();
-        sum_zeroelim(&self.c, &o.c, 1.0, &mut c);
-        Expansion {
-            c,
-            ok: self.ok && o.ok,
-        }
+        self.plus(o, 1.0)
     }
 
     pub(crate) fn sub(&self, o: &Self) -> Self {
+        self.plus(o, -1.0)
+    }
+
+    /// `self + sign · o`, `sign` being ±1.
+    fn plus(&self, o: &Self, sign: f64) -> Self {
         let mut c = Components::new();
-        sum_zeroelim(&self.c, &o.c, -1.0, &mut c);
+        sum_zeroelim(&self.c, &o.c, sign, &mut c);
         Expansion {
             c,
             ok: self.ok && o.ok,

@@ -21,6 +21,7 @@
 use robust::{Coord, Coord3D};
 
 use super::Sign;
+use super::arith::bit_range;
 use super::cascade::decide;
 use super::formulas::{Det3, PlaneSide};
 use super::implicit::{Point, Point3};
@@ -105,24 +106,14 @@ const ORIENT3D_SPAN: i32 = 15;
 const GRID_EXPONENTS: std::ops::RangeInclusive<i32> = -300..=300;
 
 /// Whether the nonzero coordinates are all multiples of `2^low` below `2^(top + 1)` with
-/// `top - low + 1 <= span` (and both within [`GRID_EXPONENTS`]): the small-grid case of the
-/// [module docs](self). Subnormal numbers are never on a small grid here.
+/// `top - low + 1 <= span` (and both within [`GRID_EXPONENTS`], which leaves out subnormal
+/// numbers): the small-grid case of the [module docs](self).
 #[inline]
 fn small_grid_span<'a>(coords: impl Iterator<Item = &'a f64>, span: i32) -> bool {
     let (mut top, mut low) = (i32::MIN, i32::MAX);
-    for &x in coords {
-        if x == 0.0 {
-            continue;
-        }
-        let bits = x.to_bits();
-        let biased = ((bits >> 52) & 0x7ff) as i32;
-        if biased == 0 {
-            return false;
-        }
-        let exponent = biased - 1023;
-        let significand = (bits & ((1 << 52) - 1)) | (1 << 52);
-        top = top.max(exponent);
-        low = low.min(exponent - 52 + significand.trailing_zeros() as i32);
+    for &x in coords.filter(|&&x| x != 0.0) {
+        let (x_low, x_top) = bit_range(x);
+        (top, low) = (top.max(x_top), low.min(x_low));
         if top - low + 1 > span || !GRID_EXPONENTS.contains(&top) || !GRID_EXPONENTS.contains(&low)
         {
             return false;
