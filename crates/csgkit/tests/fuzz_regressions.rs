@@ -48,6 +48,16 @@ fn boolean_keeps_a_sliver_of_a_coincident_stack_once() {
     checks::solids::check_case(&solids_case("sliver_in_a_coincident_stack"));
 }
 
+/// The same shells beside a slab that holds the cube: the three bottom faces lie in one plane,
+/// each triangulated its own way, so a sliver of the stack (thinner than the f64 grid) had no
+/// sub-triangle over its corners in the slab's face. The sliver was kept as if it were the
+/// stack's lowest face, and the union had three unbalanced edges. A sliver's coincident faces
+/// are now the input triangles of its plane that contain it, found exactly.
+#[test]
+fn boolean_keeps_a_sliver_of_a_stack_triangulated_differently_once() {
+    checks::solids::check_case(&solids_case("sliver_triangulated_differently_in_a_stack"));
+}
+
 /// An OBJ group whose name ends in `\` once its comment is cut: written as it was, the name
 /// joined the next line, a face, and the round trip lost it.
 #[test]

@@ -36,8 +36,8 @@
 //!    is the front. A stack of coincident patches is kept once: from the lowest operand, and
 //!    within it from the lowest patch (coincident patches cover the same region, since each is
 //!    cut along the other's edges). A sliver too thin for an f64 sample takes its winding
-//!    numbers from a neighbour in its face and its stack from the sub-triangles over its
-//!    three vertices.
+//!    numbers from a neighbour in its face, and its stack from the coplanar input triangles
+//!    that hold it, decided exactly on its corners.
 //!
 //! # Complexity
 //! One [`Bvh`] over the input triangles and one ray per patch: O((n + P) log n) plus the
@@ -47,7 +47,8 @@ use crate::par::*;
 
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{
-    Point, Point3, Sign, orient2d, orient2d_projected, orient3d_plane, orient3d_points, simplify,
+    Axis, Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane,
+    orient3d_points, simplify,
 };
 use crate::mesh::union_find::UnionFind;
 
@@ -97,8 +98,9 @@ pub(crate) struct Sample {
     /// The input triangles through the point (coplanar with the sampled one, which is among
     /// them), each with `+1` when it faces the same way and `-1` otherwise.
     pub coincident: Vec<(u32, i32)>,
-    /// For a sliver classified from its neighbour (no point to cast from), the sub-triangles
-    /// over its three vertices, itself included: its coincident stack. Empty for a ray.
+    /// For a sliver classified from its neighbour (no point to cast from), the sub-triangles of
+    /// its coincident faces that overlap it, itself included: its coincident stack. Empty for
+    /// a ray.
     pub stack: Vec<u32>,
 }
 
@@ -309,7 +311,7 @@ pub(crate) fn select(
     });
     counter.finish()?;
     if missing > 0 {
-        propagate_to_slivers(input, arr, patch_of, &mut found)?;
+        propagate_to_slivers(input, arr, &caster.tree, patch_of, &mut found)?;
     }
     let first_sub = {
         let mut first = vec![u32::MAX; patch_count];
@@ -360,12 +362,12 @@ struct PatchAt {
 /// the other sheets at `e` that leave it in front of `T`, and each changes its operand's
 /// winding number by one, up when the sliver's side is behind the sheet (exact
 /// [`orient3d_plane`] and [`orient3d_points`] on the sheets' sub-triangles). Coplanar sheets
-/// lie in `T`'s plane and are not crossed. The sliver's coincident faces are the
-/// sub-triangles over its three vertices (coincident faces are cut along each other's edges,
-/// so a stack of them has the same corners), each counted with its orientation.
+/// lie in `T`'s plane and are not crossed. The sliver's coincident faces are found exactly
+/// ([`sliver_stack`]).
 fn propagate_to_slivers(
     input: &Input,
     arr: &Arrangement,
+    tree: &Bvh,
     patch_of: &[u32],
     found: &mut [Option<Sample>],
 ) -> Result<(), StageError> {
@@ -379,14 +381,6 @@ fn propagate_to_slivers(
             (0..3).map(move |i| key(t[i], t[(i + 1) % 3]))
         })
         .collect();
-    let corners_key = |t: [u32; 3]| {
-        let mut sorted = t;
-        sorted.sort_unstable();
-        sorted
-    };
-    let mut stacks: rustc_hash::FxHashMap<[u32; 3], Vec<u32>> = (pending.iter())
-        .map(|&s| (corners_key(arr.triangles[s as usize]), Vec::new()))
-        .collect();
     let mut at_edge: rustc_hash::FxHashMap<u64, Vec<u32>> = rustc_hash::FxHashMap::default();
     for (s, t) in arr.triangles.iter().enumerate() {
         for i in 0..3 {
@@ -395,13 +389,7 @@ fn propagate_to_slivers(
                 at_edge.entry(k).or_default().push(s as u32);
             }
         }
-        if let Some(stack) = stacks.get_mut(&corners_key(*t)) {
-            stack.push(s as u32);
-        }
     }
-    // +1 for a sub-triangle over the same corners in the same cyclic order as `t`.
-    let same_way =
-        |t: [u32; 3], r: [u32; 3]| (0..3).any(|i| r == [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]);
     let point = |v: u32| arr.point(input, v);
     loop {
         let mut progress = false;
@@ -450,18 +438,7 @@ fn propagate_to_slivers(
                 }
                 front.retain(|e| e.1 != 0);
                 front.sort_unstable();
-                let stack = stacks[&corners_key(tri)].clone();
-                let mut coincident: Vec<(u32, i32)> = (stack.iter())
-                    .map(|&r| {
-                        let sigma = if same_way(tri, arr.triangles[r as usize]) {
-                            1
-                        } else {
-                            -1
-                        };
-                        (arr.source[r as usize], sigma)
-                    })
-                    .collect();
-                coincident.sort_unstable();
+                let (coincident, stack) = sliver_stack(input, arr, tree, s);
                 found[p] = Some(Sample {
                     front,
                     coincident,
@@ -482,6 +459,68 @@ fn propagate_to_slivers(
             )));
         }
     }
+}
+
+/// The coincident faces of sub-triangle `s`, found exactly, for a sliver no f64 point fits in:
+/// the input triangles in its source's plane whose closed projection holds its three corners,
+/// each with `+1` when it faces the same way (sorted); and, in each of them, the sub-triangles
+/// whose interiors overlap the sliver's (its stack).
+///
+/// Why not the sub-triangles over the sliver's own corners: coincident faces are cut along each
+/// other's edges, so they cover the same regions, but each triangulates a region its own way,
+/// and a face may have no sub-triangle over exactly these corners. A triangle of the plane
+/// either holds the sliver or meets it in no interior point (the arrangement cut the sliver's
+/// face along its edges), and a triangle is convex, so holding the corners is holding the
+/// sliver. The overlapping sub-triangles of one face lie in one of its patches: the region's
+/// constraint edges are the same in every face of the stack.
+fn sliver_stack(
+    input: &Input,
+    arr: &Arrangement,
+    tree: &Bvh,
+    s: u32,
+) -> (Vec<(u32, i32)>, Vec<u32>) {
+    let source = &input.triangles[arr.source[s as usize] as usize];
+    let plane = source.positions();
+    let axis = source.drop_axis();
+    let turn = source.turn();
+    let point = |v: u32| arr.point(input, v);
+    let corners = arr.triangles[s as usize].map(point);
+    let mut coincident = Vec::new();
+    let mut stack = Vec::new();
+    tree.visit_overlapping(&Aabb::from_points(plane.iter()), |u| {
+        let q = input.triangles[u as usize].positions();
+        if (q.iter()).any(|&x| orient3d(plane[0], plane[1], plane[2], x) != Sign::Zero) {
+            return;
+        }
+        let q = q.map(Point::Explicit);
+        let o = orient2d_projected(&q[0], &q[1], &q[2], axis);
+        if o == Sign::Zero || !holds(&q, o, &corners, axis) {
+            return;
+        }
+        coincident.push((u, if o == turn { 1 } else { -1 }));
+        let subs = arr.sub_starts[u as usize]..arr.sub_starts[u as usize + 1];
+        stack.extend(subs.filter(|&r| {
+            let sub = arr.triangles[r as usize].map(point);
+            !separated(&sub, o, &corners, axis) && !separated(&corners, turn, &sub, axis)
+        }));
+    });
+    coincident.sort_unstable();
+    (coincident, stack)
+}
+
+/// Whether the closed projection of triangle `t` (projected orientation `o`) holds every point
+/// of `points`.
+fn holds(t: &[Point; 3], o: Sign, points: &[Point], axis: Axis) -> bool {
+    (points.iter())
+        .all(|p| (0..3).all(|i| orient2d_projected(&t[i], &t[(i + 1) % 3], p, axis) != o.flip()))
+}
+
+/// Whether an edge of triangle `t` (projected orientation `o`) has all of `points` on or
+/// outside it: then `t`'s interior meets no interior of a triangle over `points` (two convex
+/// polygons whose interiors are disjoint are separated along an edge of one of them).
+fn separated(t: &[Point; 3], o: Sign, points: &[Point; 3], axis: Axis) -> bool {
+    (0..3)
+        .any(|i| (points.iter()).all(|p| orient2d_projected(&t[i], &t[(i + 1) % 3], p, axis) != o))
 }
 
 /// `Some(reverse)` when the patch `at`, with ray result `found`, bounds the result and is
