@@ -58,6 +58,15 @@ fn boolean_keeps_a_sliver_of_a_stack_triangulated_differently_once() {
     checks::solids::check_case(&solids_case("sliver_triangulated_differently_in_a_stack"));
 }
 
+/// (A ∪ B) ∪ C: certification unfolded a face of the chained union by moving a vertex from
+/// `y = 0` to `y = -5e-324`, and the validity report, whose collinearity test underflowed
+/// there, called a face around it flat. The report now decides collinearity with the kernel's
+/// exact orient2d, and re-rounding makes no coordinate newly subnormal.
+#[test]
+fn boolean_chained_through_a_file_has_no_collinear_face() {
+    checks::solids::check_case(&solids_case("collinear_face_after_a_chain"));
+}
+
 /// An OBJ group whose name ends in `\` once its comment is cut: written as it was, the name
 /// joined the next line, a face, and the round trip lost it.
 #[test]

@@ -7,9 +7,10 @@
 //!   `zero_area`.
 //! - Collinearity is decided exactly: three points are collinear iff the cross product
 //!   (b − a) × (c − a) vanishes, and its three components are the 2D orientation determinants
-//!   of the projections on the yz, zx and xy planes. Each is decided by Shewchuk's adaptive
-//!   `orient2d` (the `robust` crate), whose sign is exact for every finite f64 input; no
-//!   epsilon takes part. A polygon is collinear when every corner is collinear with its first
+//!   of the projections on the yz, zx and xy planes. Each is decided by the kernel's
+//!   [`orient2d`], whose sign is exact for every finite f64 input, subnormal coordinates
+//!   included (Shewchuk's predicates alone underflow there, and would call a triangle with a
+//!   corner at `y = -5e-324` flat); no epsilon takes part. A polygon is collinear when every corner is collinear with its first
 //!   corner and the first corner at another position.
 //! - **Duplicate faces**: faces whose sorted welded vertex lists equal an earlier face's,
 //!   whatever their orientation or starting corner (the reference's "repeated vertex
@@ -29,7 +30,7 @@
 //! # Complexity
 //! O(C) predicate calls for C corners; duplicate detection sorts the faces, O(F log F).
 
-use robust::{Coord, orient2d};
+use crate::kernel::{Sign, orient2d};
 
 use super::Mesh;
 
@@ -79,8 +80,8 @@ pub fn face_shape(positions: &[[f64; 3]], corners: &[u32]) -> FaceShape {
 pub fn are_collinear(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
     // The cross product's components are the orientations of the three axis projections.
     [(1, 2), (2, 0), (0, 1)].iter().all(|&(i, j)| {
-        let project = |p: [f64; 3]| Coord { x: p[i], y: p[j] };
-        orient2d(project(a), project(b), project(c)) == 0.0
+        let project = |p: [f64; 3]| [p[i], p[j]];
+        orient2d(project(a), project(b), project(c)) == Sign::Zero
     })
 }
 
@@ -222,6 +223,19 @@ mod tests {
             [0.5, 0.25, 0.0],
             [1.0, 0.5, 0.0],
             [1e10, 5e9, 0.0]
+        ));
+        // A corner one subnormal step off the x axis: every product in Shewchuk's formula
+        // underflows to zero, but the triangle has an area.
+        let tiny = -f64::from_bits(1);
+        assert!(!are_collinear(
+            [0.0, 0.0, 0.0],
+            [3.4e-18, tiny, 0.0],
+            [0.25, 0.0, 0.0]
+        ));
+        assert!(are_collinear(
+            [0.0, tiny, 0.0],
+            [3.4e-18, tiny, 0.0],
+            [0.25, tiny, 0.0]
         ));
     }
 

@@ -617,7 +617,9 @@ fn reround(
 }
 
 /// The f64 points around `p` up to `steps` steps away in each coordinate, nearest
-/// (in steps, then in coordinates changed) first.
+/// (in steps, then in coordinates changed) first, with no coordinate newly subnormal: a step
+/// from 0 to ±5e-324 changes no shape a reader can see, and readers whose predicates
+/// underflow there (Shewchuk's) take the faces around such a vertex for flat.
 fn neighbours(p: Point3, steps: u32) -> Vec<Point3> {
     let n = steps as i32;
     let mut out: Vec<(i32, i32, Point3)> = Vec::new();
@@ -629,6 +631,9 @@ fn neighbours(p: Point3, steps: u32) -> Vec<Point3> {
                     continue;
                 }
                 let q = [0, 1, 2].map(|k| step_by(p[k], steps[k]));
+                if (0..3).any(|k| q[k].is_subnormal() && !p[k].is_subnormal()) {
+                    continue;
+                }
                 let far = steps.iter().map(|s| s.abs()).max().unwrap_or(0);
                 let changed = steps.iter().filter(|&&s| s != 0).count() as i32;
                 out.push((far, changed, q));
@@ -866,6 +871,21 @@ mod tests {
         assert_eq!(count, 1);
         assert!(displacement > 0.0 && displacement < 1e-15);
         assert!(find_problems(&mesh, &moved).is_empty());
+    }
+
+    #[test]
+    fn re_rounding_makes_no_coordinate_subnormal() {
+        let around_zero = neighbours([0.0, 1.0, 2.0], 2);
+        assert!(around_zero.iter().all(|q| !q[0].is_subnormal()));
+        // 0 stays; the other two coordinates take their five values each.
+        assert_eq!(around_zero.len(), 5 * 5 - 1);
+        // A coordinate that is subnormal already may step on.
+        let tiny = f64::from_bits(1);
+        assert!(
+            neighbours([tiny, 1.0, 2.0], 1)
+                .iter()
+                .any(|q| q[0] == 2.0 * tiny)
+        );
     }
 
     #[test]
