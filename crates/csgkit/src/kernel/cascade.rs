@@ -27,6 +27,11 @@ pub(crate) trait Homogeneous {
     fn hom<T: Arith>(&self, conv: &dyn Fn(f64) -> T, one: &T) -> [T; 4];
     /// Every defining f64 coordinate.
     fn coords(&self) -> &[f64];
+    /// The homogeneous coordinates as expansions of the inputs scaled by `2^scale`, when the
+    /// point keeps them at hand (a point met by many predicates); `None` to compute them.
+    fn hom_expansion(&self, _scale: i32) -> Option<[Expansion; 4]> {
+        None
+    }
 }
 
 /// A polynomial sign question about some points.
@@ -107,11 +112,12 @@ fn scan(f: &impl Formula) -> (i32, i32) {
 /// Stage 3: expansions after scaling the largest input to `2^T` (see
 /// [`expansion_bit_span`](super::expansion_bit_span)); `None` if a product may have
 /// underflowed.
-fn expansion_stage(f: &impl Formula, top: i32) -> Option<Sign> {
+fn expansion_stage<F: Formula>(f: &F, top: i32) -> Option<Sign> {
     let s = expansion_top_exponent(f.degree().max(1)) - top;
     let conv = |x: f64| scaled_expansion(x, s);
     let one = Expansion::exact(1.0);
-    f.eval::<Expansion>(&|p| p.hom(&conv, &one), &conv).sign()
+    let hom = |p: &F::Point| p.hom_expansion(s).unwrap_or_else(|| p.hom(&conv, &one));
+    f.eval::<Expansion>(&hom, &conv).sign()
 }
 
 /// Stage 4: big integers, exact for every finite input.

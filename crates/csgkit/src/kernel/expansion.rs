@@ -175,6 +175,70 @@ impl Expansion {
         let c = if current == 0 { first } else { second };
         Expansion { c, ok }
     }
+
+    /// The same value in as few components as Shewchuk's `compress` gets (nonadjacent, so
+    /// at most one per 53 bits of the value's span): products and sums grow expansions
+    /// quadratically, and an expansion that is used many times is worth compressing once.
+    pub(crate) fn compressed(&self) -> Self {
+        let e = &self.c;
+        let Some(&last) = e.last() else {
+            return self.clone();
+        };
+        let mut h: Components = smallvec::smallvec![0.0; e.len()];
+        let mut bottom = e.len() - 1;
+        let mut q = last;
+        for &now in e[..e.len() - 1].iter().rev() {
+            let (sum, err) = fast_two_sum(q, now);
+            if err != 0.0 {
+                h[bottom] = sum;
+                bottom -= 1;
+                q = err;
+            } else {
+                q = sum;
+            }
+        }
+        let mut top = 0;
+        for i in bottom + 1..e.len() {
+            let (sum, err) = fast_two_sum(h[i], q);
+            if err != 0.0 {
+                h[top] = err;
+                top += 1;
+            }
+            q = sum;
+        }
+        h[top] = q;
+        h.truncate(top + 1);
+        if q == 0.0 {
+            h.clear();
+        }
+        Expansion { c: h, ok: self.ok }
+    }
+
+    /// `self · 2^k`, or `None` where a component would leave the normal range (then the
+    /// scaling would not be exact).
+    pub(crate) fn scaled_by_pow2(&self, k: i32) -> Option<Self> {
+        // Steps of at most 2^±1000 keep each factor a normal f64.
+        let steps: smallvec::SmallVec<[f64; 4]> = {
+            let mut left = k;
+            let mut steps = smallvec::SmallVec::new();
+            while left != 0 {
+                let step = left.clamp(-1000, 1000);
+                steps.push(f64::from_bits(((step + 1023) as u64) << 52));
+                left -= step;
+            }
+            steps
+        };
+        let mut c = self.c.clone();
+        for x in &mut c {
+            for &factor in &steps {
+                *x *= factor;
+                if !x.is_normal() {
+                    return None;
+                }
+            }
+        }
+        Some(Expansion { c, ok: self.ok })
+    }
 }
 
 /// `h = e + sign · f` (`sign` is ±1, so negating is exact), into `h` (cleared first): Shewchuk's
@@ -264,6 +328,38 @@ mod tests {
         assert_eq!(r.c.as_slice(), [2f64.powi(-120)]);
         let z = r.sub(&Expansion::exact(2f64.powi(-120)));
         assert_eq!(z.sign(), Some(Sign::Zero));
+    }
+
+    #[test]
+    fn compression_keeps_the_value_in_fewer_components() {
+        // Single bits side by side: nonoverlapping, but one f64 holds their sum.
+        let bits = Expansion {
+            c: smallvec::smallvec![0.125, 0.25, 0.5, 1.0, 2.0],
+            ok: true,
+        };
+        assert_eq!(bits.compressed().c.as_slice(), [3.875]);
+        // A cube of a three-part number: the same value, sorted, in no more components.
+        let a = Expansion::exact(1.0)
+            .add(&Expansion::exact(2f64.powi(-30)))
+            .add(&Expansion::exact(-2f64.powi(-70)));
+        let cube = a.mul(&a).mul(&a);
+        let small = cube.compressed();
+        assert!(small.c.len() <= cube.c.len());
+        assert!(small.c.windows(2).all(|w| w[0].abs() < w[1].abs()));
+        assert_eq!(cube.sub(&small).sign(), Some(Sign::Zero));
+        assert_eq!(Expansion::exact(0.0).compressed().sign(), Some(Sign::Zero));
+        // Cancelling to zero compresses to no component.
+        assert!(cube.sub(&cube).compressed().c.is_empty());
+    }
+
+    #[test]
+    fn scaling_by_a_power_of_two_is_exact_or_refused() {
+        let a = Expansion::exact(3.0).add(&Expansion::exact(2f64.powi(-80)));
+        let up = a.scaled_by_pow2(900).expect("in range");
+        let back = up.scaled_by_pow2(-900).expect("in range");
+        assert_eq!(back.sub(&a).sign(), Some(Sign::Zero));
+        assert!(a.scaled_by_pow2(-1000).is_none(), "2^-1080 is subnormal");
+        assert!(a.scaled_by_pow2(1100).is_none(), "overflows");
     }
 
     #[test]

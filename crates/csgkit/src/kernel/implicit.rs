@@ -8,8 +8,14 @@
 //! the filter reuses (`filter_hom`). The sign of `W` is computed exactly at construction; a
 //! point whose `W` is exactly zero does not exist and is refused.
 
+use std::cell::RefCell;
+
+use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
+
 use super::arith::Arith;
 use super::cascade::{Formula, Homogeneous, decide};
+use super::expansion::Expansion;
 use super::interval::{Interval, next_down, next_up};
 use super::{Axis, Sign};
 
@@ -350,6 +356,69 @@ impl Homogeneous for Point {
             Point::Tpi(t) => t.planes.as_flattened().as_flattened(),
         }
     }
+
+    /// An implicit point's expansions from this thread's [`EXACT_HOM`] cache, computed and
+    /// compressed on first use.
+    fn hom_expansion(&self, scale: i32) -> Option<[Expansion; 4]> {
+        if self.is_explicit() || !self.coords().iter().all(|&x| in_cache_range(x)) {
+            return None;
+        }
+        let key: HomKey = self.coords().iter().map(|x| x.to_bits()).collect();
+        EXACT_HOM.with(|cache| {
+            let mut cache = cache.borrow_mut();
+            if !cache.contains_key(&key) {
+                let one = Expansion::exact(1.0);
+                let hom = self.hom(&Expansion::exact, &one);
+                // A product that may have underflowed unscaled: the caller's scaled inputs
+                // decide instead.
+                if hom.iter().any(|h| h.sign().is_none()) {
+                    return None;
+                }
+                if cache.len() >= EXACT_HOM_CAPACITY {
+                    cache.clear();
+                }
+                cache.insert(key.clone(), hom.map(|h| h.compressed()));
+            }
+            // Inputs scaled by 2^s scale a coordinate of degree d by 2^(s d); W has the
+            // degree of the point's definition, X, Y and Z one more.
+            let w_degree = self.w_degree() as i32;
+            let [x, y, z, w] = &cache[&key];
+            Some([
+                x.scaled_by_pow2(scale * (w_degree + 1))?,
+                y.scaled_by_pow2(scale * (w_degree + 1))?,
+                z.scaled_by_pow2(scale * (w_degree + 1))?,
+                w.scaled_by_pow2(scale * w_degree)?,
+            ])
+        })
+    }
+}
+
+/// Whether an input coordinate is 0 or of magnitude in `[2^-60, 2^60]`: then a point's
+/// unscaled expansions neither overflow (its `X` is of degree 7, under `2^(7 · 62)`) nor, in
+/// the common case, underflow; other points are computed from the scaled inputs as before.
+fn in_cache_range(x: f64) -> bool {
+    const LOW: f64 = f64::from_bits((1023 - 60) << 52);
+    const HIGH: f64 = f64::from_bits((1023 + 60) << 52);
+    x == 0.0 || (LOW..=HIGH).contains(&x.abs())
+}
+
+/// A point's defining coordinates, bit for bit: equal keys define the same point the same
+/// way (an [`Lpi`] has 15, a [`Tpi`] 27, so the kinds never collide).
+type HomKey = SmallVec<[u64; 27]>;
+
+/// Implicit points a thread's cache holds before it starts again: thousands of points, a few
+/// megabytes of expansions at most.
+const EXACT_HOM_CAPACITY: usize = 4096;
+
+thread_local! {
+    /// Per thread, the exact homogeneous coordinates of the implicit points the expansion
+    /// stage has met, unscaled and compressed. Why: the filter fails in runs (the points of a
+    /// near-degenerate configuration, such as a cube turned by 1e-7 rad, are compared with
+    /// each other over and over while one triangle is split), and computing an intersection
+    /// point's coordinates as expansions costs most of each such predicate (a [`Tpi`]'s `X`
+    /// is a degree-7 polynomial); a compressed copy also makes every product with it short.
+    static EXACT_HOM: RefCell<FxHashMap<HomKey, [Expansion; 4]>> =
+        RefCell::new(FxHashMap::default());
 }
 
 impl Lpi {
