@@ -67,6 +67,15 @@ fn boolean_chained_through_a_file_has_no_collinear_face() {
     checks::solids::check_case(&solids_case("collinear_face_after_a_chain"));
 }
 
+/// A solid whose corner touches the inside of the other's face: the face's triangles around
+/// that vertex were merged into one polygon (`--polygons`, `--quads`) without it, and the
+/// faces at the vertex touched the polygon's interior (13 crossing pairs). The sides at such
+/// a pinch now stay.
+#[test]
+fn boolean_keeps_a_pinch_vertex_as_a_corner_of_merged_faces() {
+    checks::solids::check_case(&solids_case("solid_touching_a_polygon_inside"));
+}
+
 /// An OBJ group whose name ends in `\` once its comment is cut: written as it was, the name
 /// joined the next line, a face, and the round trip lost it.
 #[test]

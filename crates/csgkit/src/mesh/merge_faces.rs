@@ -20,7 +20,9 @@
 //!
 //! Only triangle sides used by exactly two triangles, once in each direction, both of one
 //! provenance, are dissolved, so edges where more faces meet stay, and the polygons conform
-//! to their neighbours exactly as the triangles did. Every decision is combinatorial, except
+//! to their neighbours exactly as the triangles did; the sides at a vertex inside the region
+//! that other faces also use (a solid touching the face at one point) stay too, so that
+//! vertex remains a corner. Every decision is combinatorial, except
 //! the convexity of quads and the apex's view of a piece (exact `orient2d` of the f64 corners
 //! projected along the dominant axis of the first triangle's or the region's normal).
 //! Because every face is a union of the input's triangles, the input's triangulation, which
@@ -156,8 +158,54 @@ fn source_corners(sources: &[&Mesh], source: Provenance) -> Vec<[f64; 3]> {
 }
 
 /// The undirected sides, as `(low, high)` vertex pairs, that two triangles of one run use in
-/// opposite directions and no other triangle uses.
+/// opposite directions and no other triangle uses, except around a pinch: a vertex inside a
+/// run's region (every side of the run at it dissolved) that other faces also use, where a
+/// solid touches the face at one point. Dissolved, its sides would leave the vertex inside a
+/// polygon that does not have it as a corner, and the faces at it would touch the polygon's
+/// interior: its sides stay.
 fn dissolved_sides(mesh: &Mesh, runs: &[&[u32]]) -> FxHashSet<(u32, u32)> {
+    let mut dissolved = shared_sides(mesh, runs);
+    let corners = mesh.corners();
+    let mut faces_at = vec![0u32; mesh.vertex_count()];
+    for &v in corners {
+        faces_at[v as usize] += 1;
+    }
+    let pinched: Vec<(u32, u32)> = (runs.par_iter())
+        .filter(|run| run.len() > 1)
+        .flat_map_iter(|run| {
+            // Per vertex: the run's triangles at it, and its dissolved sides at it.
+            let mut own: FxHashMap<u32, (u32, u32)> = FxHashMap::default();
+            let mut sides = Vec::new();
+            for &f in run.iter() {
+                let c = &corners[3 * f as usize..3 * f as usize + 3];
+                for i in 0..3 {
+                    let (a, b) = (c[i], c[(i + 1) % 3]);
+                    own.entry(a).or_default().0 += 1;
+                    if a < b && dissolved.contains(&(a, b)) {
+                        sides.push((a, b));
+                        own.entry(a).or_default().1 += 1;
+                        own.entry(b).or_default().1 += 1;
+                    }
+                }
+            }
+            let pinch = |v: u32| {
+                let (triangles, inner) = own[&v];
+                inner == triangles && faces_at[v as usize] > triangles
+            };
+            (sides.into_iter())
+                .filter(|&(a, b)| pinch(a) || pinch(b))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for side in pinched {
+        dissolved.remove(&side);
+    }
+    dissolved
+}
+
+/// The undirected sides, as `(low, high)` vertex pairs, that two triangles of one run use in
+/// opposite directions and no other triangle uses.
+fn shared_sides(mesh: &Mesh, runs: &[&[u32]]) -> FxHashSet<(u32, u32)> {
     let corners = mesh.corners();
     let side = |f: u32, i: usize| {
         let f = 3 * f as usize;
