@@ -196,23 +196,41 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
         .map(|&v| raw[v as usize].map(|x| x * scale))
         .collect();
 
-    let mut triangles = Vec::new();
+    // Each operand's triangles are written once, in place (an indexed parallel extend); the
+    // exactly degenerate ones, rare, stay `None` until one in-place pass takes them out.
+    let mut made_faces: (Vec<FaceId>, Vec<Option<Triangle>>) = Default::default();
     let mut operand = Vec::new();
-    let mut face = Vec::new();
-    let mut operand_starts = vec![0u32];
-    let mut vertex_offset = 0usize;
     let mut degenerate = Vec::new();
+    let mut vertex_offset = 0usize;
     for (k, mesh) in operands.iter().enumerate() {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
-        let start = triangles.len();
-        let dropped = add_operand_triangles(mesh, remap, &positions, &mut face, &mut triangles)
+        let welded = |corners: [u32; 3]| corners.map(|v| remap[v as usize]);
+        let triangulation = triangulate_faces(mesh)
             .map_err(|error| InvalidOperand::InvalidPolygon { operand: k, error })?;
-        degenerate.extend(dropped.into_iter().map(|t| (k as u32, t)));
-        operand.extend(std::iter::repeat_n(k as u32, triangles.len() - start));
+        let start = made_faces.1.len();
+        made_faces.par_extend(triangulation.par_iter().map(|(f, corners)| {
+            let ids = welded(corners);
+            (f, Triangle::new(0, ids, ids.map(|v| positions[v as usize])))
+        }));
+        let made = &made_faces.1;
+        let flat = (made[start..].par_iter().zip(triangulation.par_iter()))
+            .filter(|(made, _)| made.is_none())
+            .map(|(_, (_, corners))| (k as u32, welded(corners)));
+        degenerate.par_extend(flat);
+        operand.resize(made.len(), k as u32);
         vertex_offset += mesh.vertex_count();
-        operand_starts.push(triangles.len() as u32);
     }
-    (triangles.par_iter_mut().enumerate()).for_each(|(id, t)| *t = t.with_id(id as u32));
+    let (mut face, made) = made_faces;
+    if !degenerate.is_empty() {
+        operand = of_made(operand, &made);
+        face = of_made(face, &made);
+    }
+    let triangles: Vec<Triangle> = (made.into_iter().flatten().enumerate())
+        .map(|(id, t)| t.with_id(id as u32))
+        .collect();
+    let operand_starts: Vec<u32> = (0..=operands.len())
+        .map(|k| operand.partition_point(|&o| (o as usize) < k) as u32)
+        .collect();
     let operand_boxes = (0..operands.len())
         .map(|k| {
             let range = operand_starts[k] as usize..operand_starts[k + 1] as usize;
@@ -272,41 +290,11 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
     Ok(input)
 }
 
-/// Appends the non-degenerate triangles of one operand ([`triangulate_faces`]) over the welded
-/// vertices (`remap` maps its vertices to welded ids) and their faces, in parallel, straight
-/// into the output vectors. Returns the exactly degenerate triangles it left out, over welded
-/// ids: their edges still count in the closedness check (a flat triangle between two
-/// neighbours that meet it along its long side is a T-junction the arrangement resolves, not
-/// a hole).
-fn add_operand_triangles(
-    mesh: &Mesh,
-    remap: &[u32],
-    positions: &[Point3],
-    faces: &mut Vec<FaceId>,
-    triangles: &mut Vec<Triangle>,
-) -> Result<Vec<[u32; 3]>, PolygonError> {
-    let make = |f: FaceId, corners: [u32; 3]| {
-        let ids = corners.map(|v| remap[v as usize]);
-        Triangle::new(0, ids, ids.map(|v| positions[v as usize]))
-            .map(|t| (f, t))
-            .ok_or(ids)
-    };
-    let triangulation = triangulate_faces(mesh)?;
-    let start = faces.len();
-    let found = (triangulation.par_iter()).filter_map(|(f, c)| make(f, c).ok());
-    let mut both = (std::mem::take(faces), std::mem::take(triangles));
-    both.par_extend(found);
-    (*faces, *triangles) = both;
-    // Degenerate triangles are rare: find those left out only when there are some.
-    let mut degenerate = Vec::new();
-    if faces.len() - start < triangulation.len() {
-        for (f, c) in triangulation.iter() {
-            if let Err(ids) = make(f, c) {
-                degenerate.push(ids);
-            }
-        }
-    }
-    Ok(degenerate)
+/// The entries of `per_triangle` whose triangle was made (is not degenerate).
+fn of_made<T>(per_triangle: Vec<T>, made: &[Option<Triangle>]) -> Vec<T> {
+    (per_triangle.into_iter().zip(made))
+        .filter_map(|(x, t)| t.is_some().then_some(x))
+        .collect()
 }
 
 /// The triangles that can be coincident with another of their operand, sorted: those with a
@@ -414,7 +402,8 @@ fn power_of_two_scale(coords: &[Point3]) -> f64 {
 }
 
 /// Checks that every edge of every operand is balanced, and links each triangle side to the
-/// triangle across it where the edge is a plain two-sided edge of one operand.
+/// triangle across it where the edge is a plain two-sided edge of one operand. Operands are
+/// linked side by side: an edge's uses are counted within its operand only.
 fn link_edges(
     input: &Input,
     degenerate: &[(u32, [u32; 3])],
@@ -422,44 +411,80 @@ fn link_edges(
     remap: &[u32],
     offsets: &[usize],
 ) -> Result<Vec<u32>, InvalidOperand> {
-    // One record per side, bucketed by its smaller vertex (a counting sort: linear, unlike
-    // one sort of all sides), then each small bucket sorted by (larger vertex, operand).
-    let side_count = 3 * input.triangles.len();
-    let ends = |side: usize| {
-        let v = input.triangles[side / 3].vertices();
-        (v[side % 3], v[(side % 3 + 1) % 3])
-    };
-    // The sides of degenerate triangles follow, numbered from `side_count`; they count for
-    // balance but link nothing. A side from a vertex to itself is no edge.
-    let flat: Vec<(u32, u32, u32)> = (degenerate.iter())
-        .flat_map(|&(k, t)| (0..3).map(move |i| (k, t[i], t[(i + 1) % 3])))
-        .filter(|&(_, a, b)| a != b)
+    let links: Vec<OperandLinks> = (0..operands.len())
+        .into_par_iter()
+        .map(|k| {
+            // The sides of the operand's degenerate triangles count for balance but link
+            // nothing. A side from a vertex to itself is no edge.
+            let flat: Vec<[u32; 2]> = (degenerate.iter())
+                .filter(|&&(owner, _)| owner as usize == k)
+                .flat_map(|&(_, t)| (0..3).map(move |i| [t[i], t[(i + 1) % 3]]))
+                .filter(|&[a, b]| a != b)
+                .collect();
+            link_operand(input, k, &flat)
+        })
         .collect();
-    let all_sides = side_count + flat.len();
+    if let Some(k) = links.iter().position(|l| l.unbalanced_count > 0) {
+        // The operand's own index of a welded vertex (the welded representative may belong
+        // to another operand). Only on this error path, so a scan is fine.
+        let local = |v: u32| {
+            let own = offsets[k]..offsets[k + 1];
+            let raw = own.clone().find(|&r| remap[r] == v).unwrap_or(own.start);
+            (raw - offsets[k]) as u32
+        };
+        return Err(InvalidOperand::NotClosed {
+            operand: k,
+            count: links[k].unbalanced_count,
+            first: (links[k].unbalanced.iter())
+                .map(|&[a, b]| [local(a), local(b)])
+                .collect(),
+        });
+    }
+    Ok(links.into_iter().flat_map(|l| l.neighbours).collect())
+}
+
+/// What [`link_operand`] finds in one operand.
+struct OperandLinks {
+    /// For each side of the operand's triangles, the triangle across it, or [`NO_NEIGHBOUR`].
+    neighbours: Vec<u32>,
+    /// How many edges are unbalanced.
+    unbalanced_count: usize,
+    /// The first [`ERROR_EXAMPLES`] of them (welded vertex ids, smaller first), in that order.
+    unbalanced: Vec<[u32; 2]>,
+}
+
+/// Counts the uses of every edge of operand `k` in each direction, its triangles' sides and
+/// then the `flat` sides of its degenerate triangles, and links the sides of each edge used
+/// exactly twice, once each way.
+fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]]) -> OperandLinks {
+    let range = input.operand_triangles(k);
+    let triangles = &input.triangles[range.clone()];
+    let side_count = 3 * triangles.len();
     let ends = |side: usize| match side.checked_sub(side_count) {
-        Some(i) => (flat[i].1, flat[i].2),
-        None => ends(side),
+        Some(i) => flat[i],
+        None => {
+            let v = triangles[side / 3].vertices();
+            [v[side % 3], v[(side % 3 + 1) % 3]]
+        }
     };
-    let operand_of = |side: usize| match side.checked_sub(side_count) {
-        Some(i) => flat[i].0,
-        None => input.operand[side / 3],
-    };
+    // One record per side, bucketed by its smaller vertex (a counting sort: linear, unlike one
+    // sort of all sides), then each small bucket sorted by its larger vertex.
+    let all_sides = side_count + flat.len();
     let mut bucket_starts = vec![0u32; input.positions.len() + 1];
     for side in 0..all_sides {
-        let (a, b) = ends(side);
+        let [a, b] = ends(side);
         bucket_starts[a.min(b) as usize + 1] += 1;
     }
     for v in 1..bucket_starts.len() {
         bucket_starts[v] += bucket_starts[v - 1];
     }
     let mut next = bucket_starts.clone();
-    // (key, operand, side << 1 | forward) with key = smaller << 32 | larger.
-    let mut sides = vec![(0u64, 0u32, 0u32); all_sides];
+    // (larger vertex, side << 1 | forward).
+    let mut sides = vec![(0u32, 0u32); all_sides];
     for side in 0..all_sides {
-        let (a, b) = ends(side);
+        let [a, b] = ends(side);
         let slot = &mut next[a.min(b) as usize];
-        let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
-        sides[*slot as usize] = (key, operand_of(side), (side as u32) << 1 | u32::from(a < b));
+        sides[*slot as usize] = (a.max(b), (side as u32) << 1 | u32::from(a < b));
         *slot += 1;
     }
     let mut rest = sides.as_mut_slice();
@@ -470,49 +495,29 @@ fn link_edges(
         rest = tail;
     }
     buckets.par_iter_mut().for_each(|b| b.sort_unstable());
-    let mut neighbours = vec![NO_NEIGHBOUR; side_count];
-    let mut unbalanced: Vec<Vec<[u32; 2]>> = vec![Vec::new(); operands.len()];
-    let mut unbalanced_count = vec![0usize; operands.len()];
-    let mut start = 0;
-    while start < sides.len() {
-        let mut end = start + 1;
-        while end < sides.len() && sides[end].0 == sides[start].0 && sides[end].1 == sides[start].1
-        {
-            end += 1;
-        }
-        let run = &sides[start..end];
-        let forward = run.iter().filter(|s| s.2 & 1 == 1).count();
-        let k = run[0].1 as usize;
-        if 2 * forward != run.len() {
-            unbalanced_count[k] += 1;
-            if unbalanced[k].len() < ERROR_EXAMPLES {
-                let key = run[0].0;
-                // The operand's own index of a welded vertex (the welded representative may
-                // belong to another operand). Only on this error path, so a scan is fine.
-                let local = |v: u32| {
-                    let own = offsets[k]..offsets[k + 1];
-                    let raw = own.clone().find(|&r| remap[r] == v).unwrap_or(own.start);
-                    (raw - offsets[k]) as u32
-                };
-                unbalanced[k].push([local((key >> 32) as u32), local(key as u32)]);
-            }
-        } else if let [r, s] = run {
-            let (p, q) = ((r.2 >> 1) as usize, (s.2 >> 1) as usize);
-            if p < side_count && q < side_count {
-                neighbours[p] = (q / 3) as u32;
-                neighbours[q] = (p / 3) as u32;
+    let mut links = OperandLinks {
+        neighbours: vec![NO_NEIGHBOUR; side_count],
+        unbalanced_count: 0,
+        unbalanced: Vec::new(),
+    };
+    for (smaller, bucket) in buckets.iter().enumerate() {
+        for run in bucket.chunk_by(|s, t| s.0 == t.0) {
+            let forward = run.iter().filter(|s| s.1 & 1 == 1).count();
+            if 2 * forward != run.len() {
+                links.unbalanced_count += 1;
+                if links.unbalanced.len() < ERROR_EXAMPLES {
+                    links.unbalanced.push([smaller as u32, run[0].0]);
+                }
+            } else if let [r, s] = run {
+                let (p, q) = ((r.1 >> 1) as usize, (s.1 >> 1) as usize);
+                if p < side_count && q < side_count {
+                    links.neighbours[p] = (q / 3 + range.start) as u32;
+                    links.neighbours[q] = (p / 3 + range.start) as u32;
+                }
             }
         }
-        start = end;
     }
-    if let Some(k) = unbalanced_count.iter().position(|&c| c > 0) {
-        return Err(InvalidOperand::NotClosed {
-            operand: k,
-            count: unbalanced_count[k],
-            first: std::mem::take(&mut unbalanced[k]),
-        });
-    }
-    Ok(neighbours)
+    links
 }
 
 /// The signed volume of operand `k` (scaled), by the divergence theorem.

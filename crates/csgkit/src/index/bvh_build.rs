@@ -63,14 +63,15 @@ impl Bvh {
         Self::build_where(len, box_of, |_| true)
     }
 
-    /// Builds a tree over the boxes that overlap `region`, keeping their indices in `boxes`
-    /// as ids. The broad phase uses it to index only the part of each operand that lies in
-    /// the overlap of both operands' boxes.
+    /// Builds a tree over the boxes `box_of(0) .. box_of(len - 1)` that overlap `region`,
+    /// keeping their indices as ids (`box_of` as in [`Bvh::build_with`]). The broad phase uses
+    /// it to index only the part of each operand that lies in the overlap of both operands'
+    /// boxes.
     ///
     /// # Panics
-    /// If there are more than `u32::MAX` boxes.
-    pub fn build_in(boxes: &[Aabb], region: &Aabb) -> Bvh {
-        Self::build_where(boxes.len(), |i| boxes[i], |b| b.overlaps(region))
+    /// If `len` exceeds `u32::MAX`.
+    pub fn build_in(len: usize, box_of: impl Fn(usize) -> Aabb + Sync, region: &Aabb) -> Bvh {
+        Self::build_where(len, box_of, |b| b.overlaps(region))
     }
 
     fn build_where(
@@ -313,7 +314,7 @@ mod tests {
             .map(|i| Aabb::from_points(&[[i as f64; 3], [i as f64 + 0.5; 3]]))
             .collect();
         let region = Aabb::from_points(&[[2.5; 3], [5.0; 3]]);
-        let bvh = Bvh::build_in(&boxes, &region);
+        let bvh = Bvh::build_in(boxes.len(), |i| boxes[i], &region);
         let mut ids = bvh.ids.clone();
         ids.sort_unstable();
         assert_eq!(ids, vec![2, 3, 4, 5]);
