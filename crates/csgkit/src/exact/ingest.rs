@@ -225,7 +225,10 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
         operand = of_made(operand, &made);
         face = of_made(face, &made);
     }
-    let triangles: Vec<Triangle> = (made.into_iter().flatten().enumerate())
+    // `filter_map` rather than `flatten`: the standard library collects it in place, in the
+    // allocation of `made`, where `flatten` would copy every triangle to a new one.
+    #[allow(clippy::filter_map_identity)]
+    let triangles: Vec<Triangle> = (made.into_iter().filter_map(|t| t).enumerate())
         .map(|(id, t)| t.with_id(id as u32))
         .collect();
     let operand_starts: Vec<u32> = (0..=operands.len())

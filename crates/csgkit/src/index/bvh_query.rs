@@ -17,6 +17,8 @@
 //! runs while the pair's boxes and triangles are still in cache. The order is the same as the
 //! pair lists' order.
 
+use smallvec::SmallVec;
+
 use crate::par::*;
 
 use super::bvh_build::LEAF_SIZE;
@@ -94,7 +96,11 @@ impl Bvh {
         if self.is_empty() {
             return false;
         }
-        let mut stack = vec![0usize];
+        // A complete tree of at most 2^32 leaves: the depth-first stack holds at most one
+        // pending sibling per level, so it never leaves the inline buffer (no allocation per
+        // query; the broad phase asks one per triangle).
+        let mut stack: SmallVec<[usize; 64]> = SmallVec::new();
+        stack.push(0);
         while let Some(node) = stack.pop() {
             if !self.nodes[node].overlaps(query) {
                 continue;
