@@ -535,6 +535,10 @@ impl<'a> Cdt<'a> {
     }
 
     fn orient(&self, a: u32, b: u32, c: u32) -> Sign {
+        // A repeated point is a zero the filter cannot see: the exact stages would compute it.
+        if a == b || b == c || a == c {
+            return Sign::Zero;
+        }
         self.proj
             .orient(self.point(a), self.point(b), self.point(c))
     }
