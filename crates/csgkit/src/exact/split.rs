@@ -54,7 +54,10 @@
 //!
 //! # Numeric model
 //! Only [`orient2d_projected`] decides, on explicit or implicit points; no coordinate is ever
-//! rounded or computed. The f64 normal only chooses the projection axis; any axis where the
+//! rounded or computed. Where its filter cannot decide, three points on one cut (all on the
+//! plane of a triangle not parallel to this one, by how they are defined) are collinear
+//! without the exact stages ([`orient2d_projected_or_collinear`]), as are three points of
+//! which two are one. The f64 normal only chooses the projection axis; any axis where the
 //! exact orientation of the corners is nonzero gives the same answers (up to the global flip).
 //!
 //! # Complexity
@@ -67,7 +70,9 @@
 //! a few segments) allocates the triangle vector, the id maps (`alias`, `vtri`), the output,
 //! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
-use crate::kernel::{Axis, Point, Point3, Sign, orient2d_projected, orient3d_plane};
+use crate::kernel::{
+    Axis, Point, Point3, Sign, orient2d_projected, orient2d_projected_or_collinear, orient3d_plane,
+};
 
 #[cfg(test)]
 mod tests;
@@ -214,44 +219,55 @@ impl Projection {
 
     /// Orientation of `a, b, c` in the frame: positive when turning like the input triangle.
     pub(crate) fn orient(&self, a: &Point, b: &Point, c: &Point) -> Sign {
-        if self.on_another_plane(a, b, c) {
-            return Sign::Zero;
-        }
-        let s = orient2d_projected(a, b, c, self.drop);
+        let on_a_cut = || self.on_another_plane(a, b, c);
+        let s = orient2d_projected_or_collinear(a, b, c, self.drop, on_a_cut);
         if self.flip { s.flip() } else { s }
     }
 
-    /// True when `a, b, c` lie by construction on the plane of some triangle `π` that is not
-    /// parallel to this one: all three are on both planes, so on their common line. Points
-    /// along one intersection segment are all of this kind (the ends of a crossing lie on the
-    /// other triangle's plane, or on its edges), and exactly collinear triples would
-    /// otherwise go to the slow exact stages of the kernel.
+    /// True when `a, b, c` lie on the plane of some triangle `π` that defines one of them and
+    /// is not parallel to this one: all three are on both planes, so on their common line.
+    /// Points along one cut are of this kind (the ends of a crossing lie on the other
+    /// triangle's plane, or on its edges, or on the edges of a triangle coplanar with it, as
+    /// where a planar quad is split in two), and such exactly collinear triples would otherwise
+    /// go to the slow exact stages of the kernel. Asked only where the kernel's filter cannot
+    /// decide, so the exact tests on explicit points here cost little.
     fn on_another_plane(&self, a: &Point, b: &Point, c: &Point) -> bool {
         let Some(own) = self.corners else {
             return false;
         };
-        let candidate = [a, b, c].into_iter().find_map(|p| match p {
-            Point::Lpi(l) => {
-                let (_, _, plane) = l.definition();
-                (!same_vertices(&plane, &own)).then_some(plane)
-            }
-            _ => None,
-        });
-        let Some(plane) = candidate else { return false };
-        let on = |p: &Point| match p {
-            Point::Explicit(x) => plane.contains(x),
-            Point::Lpi(l) => {
-                let (s, t, other) = l.definition();
-                same_vertices(&other, &plane) || (plane.contains(&s) && plane.contains(&t))
-            }
-            Point::Tpi(t) => t.planes().iter().any(|q| same_vertices(q, &plane)),
-        };
-        on(a) && on(b) && on(c) && !same_plane(&plane, &own)
+        let points = [a, b, c];
+        (points.iter().flat_map(|p| defining_planes(p)))
+            .any(|plane| !same_plane(&plane, &own) && points.iter().all(|p| lies_on(p, &plane)))
     }
 }
 
-fn same_vertices(x: &[Point3; 3], y: &[Point3; 3]) -> bool {
-    x.iter().all(|p| y.contains(p))
+/// The triangles whose planes define `p`: none for an explicit point, one for an
+/// [`Lpi`](crate::kernel::Lpi), three for a [`Tpi`](crate::kernel::Tpi).
+fn defining_planes(p: &Point) -> impl Iterator<Item = [Point3; 3]> + '_ {
+    let (lpi, tpi): (Option<[Point3; 3]>, &[[Point3; 3]]) = match p {
+        Point::Explicit(_) => (None, &[]),
+        Point::Lpi(l) => (Some(l.definition().2), &[]),
+        Point::Tpi(t) => (None, t.planes()),
+    };
+    lpi.into_iter().chain(tpi.iter().copied())
+}
+
+/// True when `p` lies on the plane of the (non-degenerate) triangle `plane` by the way it is
+/// defined, decided exactly on explicit points: a vertex on that plane, a line–plane point
+/// whose plane is that plane or whose line has both ends on it, a three-plane point one of
+/// whose planes is that plane. `false` says nothing.
+fn lies_on(p: &Point, plane: &[Point3; 3]) -> bool {
+    let on = |x: &Point3| {
+        plane.contains(x) || crate::kernel::orient3d(plane[0], plane[1], plane[2], *x) == Sign::Zero
+    };
+    match p {
+        Point::Explicit(x) => on(x),
+        Point::Lpi(l) => {
+            let (s, t, other) = l.definition();
+            same_plane(&other, plane) || (on(&s) && on(&t))
+        }
+        Point::Tpi(t) => t.planes().iter().any(|q| same_plane(q, plane)),
+    }
 }
 
 /// True when the plane of `x` is the plane of `y` (exactly). Called only for planes that

@@ -52,9 +52,19 @@ pub(crate) trait Formula {
 /// The exact sign of a formula: filter first, then the exact stages.
 #[inline]
 pub(crate) fn decide(f: &impl Formula) -> Sign {
+    decide_or_zero(f, || false)
+}
+
+/// [`decide`], asking `known_zero` between the filter and the exact stages: a structural
+/// proof that the value is zero (points on one line by construction), which the filter
+/// cannot give and the exact stages pay dearly for, and which costs nothing where the filter
+/// decides.
+#[inline]
+pub(crate) fn decide_or_zero(f: &impl Formula, known_zero: impl FnOnce() -> bool) -> Sign {
     let v = f.eval::<Interval>(&|p| p.filter_hom(), &Interval::exact);
     match v.sign() {
         Some(s) => s,
+        None if known_zero() => Sign::Zero,
         None => decide_exact(f),
     }
 }

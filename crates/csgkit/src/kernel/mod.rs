@@ -127,7 +127,8 @@ pub(crate) mod tests;
 pub use implicit::{Lpi, Point, Point3, Tpi};
 pub use orient::{orient2d, orient3d};
 pub use predicates::{
-    compare_along, compare_lex, orient2d_projected, orient3d_plane, orient3d_points, same_point,
+    compare_along, compare_lex, orient2d_projected, orient2d_projected_or_collinear,
+    orient3d_plane, orient3d_points, same_point,
 };
 pub(crate) use rounding::round_point;
 pub use rounding::simplify;

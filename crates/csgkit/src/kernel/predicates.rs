@@ -9,7 +9,7 @@
 
 use std::cmp::Ordering;
 
-use super::cascade::decide;
+use super::cascade::{decide, decide_or_zero};
 use super::formulas::{AxisDiff, Det3, Det4, PlaneSide};
 use super::implicit::{Point, Point3};
 use super::{Axis, Sign, orient2d, orient3d};
@@ -71,21 +71,31 @@ pub fn orient3d_points(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
 /// `drop` axis. Splitting a face with normal `n` in 2D with `drop = Axis::of_largest(n)`
 /// therefore keeps orientations when `n[drop] > 0` and flips them all when `n[drop] < 0`.
 pub fn orient2d_projected(a: &Point, b: &Point, c: &Point, drop: Axis) -> Sign {
+    orient2d_projected_or_collinear(a, b, c, drop, || false)
+}
+
+/// [`orient2d_projected`], asking `collinear` only when the interval filter cannot decide: the
+/// caller's structural proof that the three points lie on one line (the sign is then zero),
+/// cheaper there than the exact stages and never asked where the filter decides.
+pub fn orient2d_projected_or_collinear(
+    a: &Point,
+    b: &Point,
+    c: &Point,
+    drop: Axis,
+    collinear: impl FnOnce() -> bool,
+) -> Sign {
     let k = drop.index();
     let (u, v) = ((k + 1) % 3, (k + 2) % 3);
     if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
         return orient2d([a[u], a[v]], [b[u], b[v]], [c[u], c[v]]);
     }
-    if collinear_by_construction(a, b, c) {
-        return Sign::Zero;
-    }
     let w = a.w_sign().times(b.w_sign()).times(c.w_sign());
-    decide(&Det3 {
+    let det = Det3 {
         pts: [a, b, c],
         u,
         v,
-    })
-    .times(w)
+    };
+    decide_or_zero(&det, || collinear_by_construction(a, b, c) || collinear()).times(w)
 }
 
 /// True when the three points lie on one line by definition: some point is an

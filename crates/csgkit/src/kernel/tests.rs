@@ -448,6 +448,40 @@ fn one_ulp_off_the_plane_is_seen() {
     }
 }
 
+/// A caller's proof of collinearity is asked only where the filter cannot decide, and a
+/// refused proof leaves the answer to the exact stages.
+#[test]
+fn the_collinearity_proof_is_asked_only_where_the_filter_cannot_decide() {
+    let (r, s, t) = ([0.1, 0.2, 0.3], [1.7, -0.4, 0.9], [-0.6, 1.3, 0.25]);
+    let crossing = |p: Point3, q: Point3| Point::lpi(p, q, r, s, t).expect("crosses");
+    let a = crossing([0.0, 0.0, -5.0], [0.3, 0.1, 5.0]);
+    let b = crossing([1.0, 0.0, -5.0], [0.7, 0.2, 5.0]);
+    let c = crossing([0.0, 1.0, -5.0], [0.1, 0.9, 5.0]);
+    let asked = std::cell::Cell::new(0);
+    let proof = |answer: bool| {
+        asked.set(asked.get() + 1);
+        answer
+    };
+    let generic = orient2d_projected_or_collinear(&a, &b, &c, Axis::Z, || proof(true));
+    assert_eq!(generic, orient2d_projected(&a, &b, &c, Axis::Z));
+    assert_ne!(generic, Sign::Zero);
+    assert_eq!(
+        asked.get(),
+        0,
+        "the filter decides three points in general position"
+    );
+    // A repeated point: the filter cannot see the zero, the proof (or the exact stages) can.
+    assert_eq!(
+        orient2d_projected_or_collinear(&a, &b, &b, Axis::Z, || proof(true)),
+        Sign::Zero
+    );
+    assert_eq!(
+        orient2d_projected_or_collinear(&a, &b, &b, Axis::Z, || proof(false)),
+        Sign::Zero
+    );
+    assert_eq!(asked.get(), 2);
+}
+
 /// The `W` of a point is exactly zero iff the oracle finds no unique intersection.
 #[test]
 fn construction_refuses_exactly_the_degenerate_definitions() {
