@@ -71,7 +71,8 @@
 //! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, orient2d_projected, orient2d_projected_or_collinear, orient3d_plane,
+    Axis, Point, Point3, Sign, orient2d_projected, orient2d_projected_or_collinear, orient3d,
+    orient3d_plane,
 };
 
 #[cfg(test)]
@@ -257,9 +258,8 @@ fn defining_planes(p: &Point) -> impl Iterator<Item = [Point3; 3]> + '_ {
 /// whose plane is that plane or whose line has both ends on it, a three-plane point one of
 /// whose planes is that plane. `false` says nothing.
 fn lies_on(p: &Point, plane: &[Point3; 3]) -> bool {
-    let on = |x: &Point3| {
-        plane.contains(x) || crate::kernel::orient3d(plane[0], plane[1], plane[2], *x) == Sign::Zero
-    };
+    let on =
+        |x: &Point3| plane.contains(x) || orient3d(plane[0], plane[1], plane[2], *x) == Sign::Zero;
     match p {
         Point::Explicit(x) => on(x),
         Point::Lpi(l) => {
@@ -274,7 +274,7 @@ fn lies_on(p: &Point, plane: &[Point3; 3]) -> bool {
 /// share a point, so this is also the test for parallel planes.
 fn same_plane(x: &[Point3; 3], y: &[Point3; 3]) -> bool {
     x.iter()
-        .all(|&p| crate::kernel::orient3d(y[0], y[1], y[2], p) == Sign::Zero)
+        .all(|&p| orient3d(y[0], y[1], y[2], p) == Sign::Zero)
 }
 
 /// The height below which a triangle of f64 approximations is flat, relative to its largest

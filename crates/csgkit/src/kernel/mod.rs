@@ -10,7 +10,8 @@
 //! - Predicates with any mix of explicit and implicit arguments: [`orient3d_points`] (side of a
 //!   plane through three points), [`orient3d_plane`] (side of the plane of an explicit
 //!   triangle), [`orient2d_projected`] (orientation after dropping one coordinate, for splitting
-//!   faces in 2D), [`compare_along`] and [`compare_lex`] (order of points along an axis,
+//!   faces in 2D; [`orient2d_projected_or_collinear`] also takes the caller's structural proof
+//!   of collinearity, asked only where the filter cannot decide), [`compare_along`] and [`compare_lex`] (order of points along an axis,
 //!   lexicographic order), [`same_point`].
 //!
 //! Every predicate returns a [`Sign`] or an [`Ordering`](std::cmp::Ordering) that is the true
