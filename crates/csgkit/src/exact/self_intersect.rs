@@ -71,7 +71,7 @@ use crate::par::*;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
-use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d};
+use crate::kernel::{Axis, Point3, Sign, orient2d, orient3d};
 use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces_partial, weld_positions};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).
@@ -459,38 +459,45 @@ fn by_classification(a: &Triangle, b: &Triangle, shared: usize) -> bool {
 /// convex, so they do exactly when one's corner at `v` contains a ray along an edge of the
 /// other (two angular sectors below 180° overlap only so).
 fn wedges_overlap(a: &Triangle, b: &Triangle) -> bool {
-    let drop = a.drop_axis();
+    let project = projection(a.drop_axis());
     let corner = |t: &Triangle, other: &Triangle| {
-        let (v, p) = (t.vertices(), t.positions().map(Point::Explicit));
+        let (v, p) = (t.vertices(), t.positions().map(project));
         let k = (0..3)
             .find(|&i| other.vertices().contains(&v[i]))
             .unwrap_or(0);
         [p[k], p[(k + 1) % 3], p[(k + 2) % 3]]
     };
-    let contains = |[v, u, w]: [Point; 3], d: &Point| {
-        let turn = orient2d_projected(&v, &u, &w, drop);
-        orient2d_projected(&v, &u, d, drop).times(turn) != Sign::Negative
-            && orient2d_projected(&v, d, &w, drop).times(turn) != Sign::Negative
+    let contains = |[v, u, w]: [[f64; 2]; 3], d: [f64; 2]| {
+        let turn = orient2d(v, u, w);
+        orient2d(v, u, d).times(turn) != Sign::Negative
+            && orient2d(v, d, w).times(turn) != Sign::Negative
     };
     let (ca, cb) = (corner(a, b), corner(b, a));
-    contains(ca, &cb[1]) || contains(ca, &cb[2]) || contains(cb, &ca[1]) || contains(cb, &ca[2])
+    contains(ca, cb[1]) || contains(ca, cb[2]) || contains(cb, ca[1]) || contains(cb, ca[2])
 }
 
 /// `a` and `b` share an edge and are coplanar: whether their third vertices lie on the same
 /// side of the shared edge, so that they overlap with positive area.
 fn folded_over(a: &Triangle, b: &Triangle) -> bool {
-    let drop = a.drop_axis();
-    let (v, p) = (a.vertices(), a.positions().map(Point::Explicit));
+    let project = projection(a.drop_axis());
+    let (v, p) = (a.vertices(), a.positions().map(project));
     let Some(k) = (0..3).find(|&i| !b.vertices().contains(&v[i])) else {
         return false;
     };
-    let (s0, s1) = (&p[(k + 1) % 3], &p[(k + 2) % 3]);
+    let (s0, s1) = (p[(k + 1) % 3], p[(k + 2) % 3]);
     let third = (0..3)
         .find(|&i| !v.contains(&b.vertices()[i]))
-        .map(|i| Point::Explicit(b.positions()[i]));
-    third.is_some_and(|q| {
-        orient2d_projected(s0, s1, &p[k], drop) == orient2d_projected(s0, s1, &q, drop)
-    })
+        .map(|i| project(b.positions()[i]));
+    third.is_some_and(|q| orient2d(s0, s1, p[k]) == orient2d(s0, s1, q))
+}
+
+/// The projection that drops coordinate `drop`, keeping the other two in cyclic order as
+/// [`orient2d_projected`](crate::kernel::orient2d_projected) does: on explicit points the
+/// coplanar tests above are its answers, without building kernel points.
+fn projection(drop: Axis) -> impl Fn(Point3) -> [f64; 2] + Copy {
+    let k = drop.index();
+    let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+    move |p| [p[u], p[v]]
 }
 
 #[cfg(test)]

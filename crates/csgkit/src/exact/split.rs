@@ -284,14 +284,25 @@ const FLAT_HEIGHT: f64 = 16.0 * f64::EPSILON;
 /// Whether the triangle `p q r` of f64 approximations is flat: its height over its longest
 /// side below [`FLAT_HEIGHT`] of its largest coordinate (its exact orientation on these
 /// approximations may even be zero or reversed).
+///
+/// The longest side is at most the largest `|dx| + |dy|` of a side, so a triangle whose area
+/// clears the limit on that bound twice over is not flat without the square roots of the
+/// side lengths: most triangles, as the Delaunay phase asks this four times per flip test.
+/// The factor two absorbs every rounding, so the answer is the one the height gives.
 fn is_flat(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> bool {
-    height(p, q, r) < FLAT_HEIGHT * magnitude(&[p, q, r])
+    let limit = FLAT_HEIGHT * magnitude(&[p, q, r]);
+    let twice_area = robust::orient2d(to_coord(p), to_coord(q), to_coord(r)).abs();
+    let taxicab = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).abs() + (u[1] - v[1]).abs();
+    let longest_bound = taxicab(p, q).max(taxicab(q, r)).max(taxicab(r, p));
+    if twice_area > 2.0 * limit * longest_bound {
+        return false;
+    }
+    height(twice_area, p, q, r) < limit
 }
 
-/// The height of the triangle `p q r` over its longest side (0 when its corners are equal;
-/// NaN for non-finite input, which no comparison accepts).
-fn height(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
-    let twice_area = robust::orient2d(to_coord(p), to_coord(q), to_coord(r)).abs();
+/// The height of the triangle `p q r` of doubled area `twice_area` over its longest side (0
+/// when its corners are equal; NaN for non-finite input, which no comparison accepts).
+fn height(twice_area: f64, p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
     let side = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).hypot(u[1] - v[1]);
     let longest = side(p, q).max(side(q, r)).max(side(r, p));
     if longest > 0.0 {

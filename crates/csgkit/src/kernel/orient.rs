@@ -17,6 +17,14 @@
 //! quarter grids, the unit cube), the plain f64 formula has no rounding at all and its sign
 //! is the answer: [`small_grid_span`] finds the span, stopping at the first coordinate that
 //! rules it out (one for points in general position, whose significands use all 53 bits).
+//!
+//! # Zeros by comparison
+//! Off a small grid (a part rotated by a small angle, a mesh in millimetres with decimal
+//! coordinates), many zeros still need no arithmetic: points that share one coordinate lie on
+//! one axis plane (the faces two operands share at `z = 0.5`, the flat top of a cut), and a
+//! point given twice (a vertex tested against a triangle it belongs to) makes any set
+//! coplanar and collinear. Both are answered by comparisons before `robust` runs its adaptive
+//! stages to find the zero, which costs some thirty times its filter.
 
 use robust::{Coord, Coord3D};
 
@@ -50,6 +58,9 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
         let (bcx, bcy) = (b[0] - c[0], b[1] - c[1]);
         return Sign::of(acx * bcy - acy * bcx);
     }
+    if zero_by_comparison(&[a, b, c]) {
+        return Sign::Zero;
+    }
     if a.iter().chain(&b).chain(&c).all(|&x| in_robust_range(x)) {
         let v = robust::orient2d(
             Coord { x: a[0], y: a[1] },
@@ -78,6 +89,9 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
             + bdx * (cdy * adz - cdz * ady)
             + cdx * (ady * bdz - adz * bdy);
         return Sign::of(det);
+    }
+    if zero_by_comparison(&[a, b, c, d]) {
+        return Sign::Zero;
     }
     if a.iter()
         .chain(&b)
@@ -120,6 +134,19 @@ fn small_grid_span<'a>(coords: impl Iterator<Item = &'a f64>, span: i32) -> bool
         }
     }
     true
+}
+
+/// Whether the orientation of `points` (`N + 1` of them in `N` dimensions) is zero because
+/// they all share one coordinate or one of them is given twice: the
+/// [zeros by comparison](self#zeros-by-comparison).
+#[inline]
+fn zero_by_comparison<const N: usize>(points: &[[f64; N]]) -> bool {
+    let [first, rest @ ..] = points else {
+        return true;
+    };
+    let on_axis_plane = (0..N).any(|axis| rest.iter().all(|p| p[axis] == first[axis]));
+    on_axis_plane
+        || (points.iter().enumerate()).any(|(i, p)| points[i + 1..].iter().any(|q| q == p))
 }
 
 /// [`orient3d`] through the cascade (for inputs outside `robust`'s safe range).
@@ -219,6 +246,36 @@ mod tests {
             );
         }
         assert!(zeros > 100, "the tiny grids give coplanar cases: {zeros}");
+    }
+
+    /// Points on one axis plane (or axis line) are answered zero by comparison, and points
+    /// off it are not: the cascade agrees on both, at coordinates no small grid holds.
+    #[test]
+    fn axis_planes_and_repeated_points_are_zero_and_only_they() {
+        let (p, q, r) = (0.1, 0.30000000000000004, 0.7);
+        let plane = [[p, q, 0.5], [r, p, 0.5], [q, r, 0.5], [0.2, 0.9, 0.5]];
+        assert!(zero_by_comparison(&plane));
+        let [a, b, c, d] = plane;
+        assert_eq!(orient3d(a, b, c, d), Sign::Zero);
+        assert_eq!(orient3d_cascade(a, b, c, d), Sign::Zero);
+        let below = [0.2, 0.9, 0.5f64.next_down()];
+        assert!(!zero_by_comparison(&[a, b, c, below]));
+        assert_eq!(orient3d(a, b, c, below), orient3d_cascade(a, b, c, below));
+        assert_ne!(orient3d(a, b, c, below), Sign::Zero);
+        let line = [[p, 0.25], [q, 0.25], [r, 0.25]];
+        assert_eq!(orient2d(line[0], line[1], line[2]), Sign::Zero);
+        let off = [r, 0.25f64.next_up()];
+        assert_eq!(
+            orient2d(line[0], line[1], off),
+            orient2d_cascade(line[0], line[1], off)
+        );
+        assert_ne!(orient2d(line[0], line[1], off), Sign::Zero);
+        let (u, v, w) = ([p, q, r], [q, r, 0.9], [r, 0.2, q]);
+        assert!(zero_by_comparison(&[u, v, w, v]));
+        assert_eq!(orient3d(u, v, w, v), Sign::Zero);
+        assert!(!zero_by_comparison(&[u, v, w, [0.2, p, r]]));
+        assert!(zero_by_comparison(&[[p, q], [r, p], [p, q]]));
+        assert_eq!(orient2d([p, q], [r, p], [p, q]), Sign::Zero);
     }
 
     #[test]
