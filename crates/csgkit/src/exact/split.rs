@@ -59,6 +59,9 @@
 //! without the exact stages ([`orient2d_projected_or_collinear`]), as are three points of
 //! which two are one. The f64 normal only chooses the projection axis; any axis where the
 //! exact orientation of the corners is nonzero gives the same answers (up to the global flip).
+//! Delaunay flips, a choice of shape, are taken only where the filter alone proves the
+//! quadrilateral convex ([`orient2d_projected_if_clear`]); the flips that remove flat
+//! triangles decide it exactly.
 //!
 //! # Complexity
 //! With `n` points and `m` segments: point location is a walk (expected short for inserted
@@ -71,8 +74,8 @@
 //! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, orient2d_projected, orient2d_projected_or_collinear, orient3d,
-    orient3d_plane,
+    Axis, Point, Point3, Sign, orient2d_projected, orient2d_projected_if_clear,
+    orient2d_projected_or_collinear, orient3d, orient3d_plane,
 };
 
 #[cfg(test)]
@@ -86,11 +89,27 @@ const DELAUNAY_BEFORE_SEGMENTS: usize = 8;
 /// [`Cdt::flip_while`]): flip `b c` to `a d` when `d` is inside the circle of `a b c` and no
 /// triangle of the pair is flat.
 fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
-    let flat =
-        is_flat(pa, pb, pc) || is_flat(pb, pd, pc) || is_flat(pa, pb, pd) || is_flat(pa, pd, pc);
+    if is_flat(pa, pb, pc) || is_flat(pb, pd, pc) || is_flat(pa, pb, pd) || is_flat(pa, pd, pc) {
+        // Before the in-circle test, whose adaptive stages are slowest on such shapes.
+        return false;
+    }
     let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
     let inside = robust::incircle(to_coord(pa), to_coord(pb), to_coord(pc), to_coord(pd));
-    !flat && inside * turn > 0.0
+    inside * turn > 0.0
+}
+
+/// How [`Cdt::flip_while`] decides that a quadrilateral is strictly convex, so that its
+/// diagonal may be flipped.
+#[derive(Clone, Copy)]
+enum Convexity {
+    /// Exactly, whatever it costs: for flips that remove flat triangles.
+    Exact,
+    /// Only where the kernel's filter decides; a quadrilateral it cannot judge keeps its
+    /// diagonal. For the Delaunay flips, which only improve shapes: nearly degenerate
+    /// quadrilaterals are where their in-circle tests on approximations flip back and forth,
+    /// and each flip there cost two exact orientation tests (pair_cray_difference spent two
+    /// thirds of its time on 1660 such flips in one triangle).
+    IfClear,
 }
 
 /// "No triangle" (a boundary edge's neighbour) and "not constrained".
@@ -223,6 +242,12 @@ impl Projection {
         let on_a_cut = || self.on_another_plane(a, b, c);
         let s = orient2d_projected_or_collinear(a, b, c, self.drop, on_a_cut);
         if self.flip { s.flip() } else { s }
+    }
+
+    /// [`Projection::orient`] where the kernel's filter decides it, `None` elsewhere.
+    fn orient_if_clear(&self, a: &Point, b: &Point, c: &Point) -> Option<Sign> {
+        let s = orient2d_projected_if_clear(a, b, c, self.drop)?;
+        Some(if self.flip { s.flip() } else { s })
     }
 
     /// True when `a, b, c` lie on the plane of some triangle `π` that defines one of them and
@@ -453,7 +478,8 @@ impl<'a> Cdt<'a> {
             // Points inserted without flips leave long thin triangles, which every segment
             // then crosses by the hundred (the overlay of two coplanar fans puts hundreds of
             // points on one triangle); Delaunay flips first keep the crossings few.
-            cdt.flip_while(&coords, 16 * cdt.tris.len() + 64, delaunay_flip);
+            let budget = 16 * cdt.tris.len() + 64;
+            cdt.flip_while(&coords, budget, Convexity::IfClear, delaunay_flip);
         }
         for (s, seg) in segments.iter().enumerate() {
             cdt.insert_segment(s as u32, seg[0], seg[1])?;
@@ -484,8 +510,8 @@ impl<'a> Cdt<'a> {
             return;
         }
         let budget = 16 * self.tris.len() + 64;
-        self.flip_while(coords, budget, delaunay_flip);
-        self.flip_while(coords, budget, |[pa, pb, pc, pd]| {
+        self.flip_while(coords, budget, Convexity::IfClear, delaunay_flip);
+        self.flip_while(coords, budget, Convexity::Exact, |[pa, pb, pc, pd]| {
             let now = usize::from(is_flat(pa, pb, pc)) + usize::from(is_flat(pb, pd, pc));
             let after = usize::from(is_flat(pa, pb, pd)) + usize::from(is_flat(pa, pd, pc));
             after < now
@@ -511,8 +537,13 @@ impl<'a> Cdt<'a> {
         &mut self,
         coords: &[[f64; 2]],
         mut budget: usize,
+        convexity: Convexity,
         wanted: impl Fn([[f64; 2]; 4]) -> bool,
     ) {
+        let turns_left = |cdt: &Self, [a, b, c]: [u32; 3]| match convexity {
+            Convexity::Exact => cdt.orient(a, b, c) == Sign::Positive,
+            Convexity::IfClear => cdt.orient_if_clear(a, b, c) == Some(Sign::Positive),
+        };
         let mut stack: Vec<(u32, usize)> = (0..self.tris.len() as u32)
             .flat_map(|t| (0..3).map(move |i| (t, i)))
             .collect();
@@ -534,7 +565,7 @@ impl<'a> Cdt<'a> {
             if !wanted([a, b, c, d].map(|x| coords[x as usize])) {
                 continue;
             }
-            if self.orient(a, b, d) != Sign::Positive || self.orient(a, d, c) != Sign::Positive {
+            if !turns_left(self, [a, b, d]) || !turns_left(self, [a, d, c]) {
                 continue;
             }
             budget -= 1;
@@ -552,6 +583,15 @@ impl<'a> Cdt<'a> {
             triangles: self.tris.into_iter().map(|t| t.v).collect(),
             merged: self.merged,
         }
+    }
+
+    /// [`Cdt::orient`] where the kernel's filter decides it, `None` elsewhere (and for a
+    /// repeated point, which the filter cannot see).
+    fn orient_if_clear(&self, a: u32, b: u32, c: u32) -> Option<Sign> {
+        if a == b || b == c || a == c {
+            return None;
+        }
+        (self.proj).orient_if_clear(self.point(a), self.point(b), self.point(c))
     }
 
     fn point(&self, id: u32) -> &Point {

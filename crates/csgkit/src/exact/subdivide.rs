@@ -282,21 +282,44 @@ pub(crate) fn split(
 /// Global vertex ids of the contact points: an input vertex keeps its id; every other key
 /// gets the next id, in key order (deterministic).
 fn number_points(input: &Input, marks: &[(u32, Mark)]) -> (FxHashMap<PointKey, u32>, Vec<Point>) {
-    // Keys with references to their points: the sort moves small pairs, not the points.
-    let mut keyed: Vec<(PointKey, &Point)> = (marks.iter())
-        .filter_map(|(_, m)| match m {
-            Mark::Point(key, point) if !matches!(key, PointKey::Vertex(_)) => Some((*key, point)),
+    // Keys with references to their points: the sort moves small tuples, not the points.
+    // Triangle pairs that find one point may define it differently (an edge's line from
+    // either end, a plane from either triangle of a planar quad), and the definition kept
+    // decides how often the kernel's filter can answer for it: each key keeps the one whose
+    // filter encloses the point in the smallest box (on rotated_z_union, 23 M instructions
+    // against 33 M with the first found), then the first found. A total order, so every
+    // build keeps the same one (rayon's and the standard library's unstable sorts order ties
+    // differently).
+    let mut keyed: Vec<(PointKey, f64, usize, &Point)> = (marks.iter().enumerate())
+        .filter_map(|(index, (_, m))| match m {
+            Mark::Point(key, point) if !matches!(key, PointKey::Vertex(_)) => {
+                Some((*key, enclosure_size(point), index, point))
+            }
             _ => None,
         })
         .collect();
-    keyed.par_sort_unstable_by(|x, y| x.0.cmp(&y.0));
+    keyed.par_sort_unstable_by(|x, y| {
+        (x.0.cmp(&y.0))
+            .then(x.1.total_cmp(&y.1))
+            .then(x.2.cmp(&y.2))
+    });
     keyed.dedup_by(|x, y| x.0 == y.0);
     let n = input.positions.len() as u32;
     let ids = (keyed.iter().enumerate())
-        .map(|(i, (key, _))| (*key, n + i as u32))
+        .map(|(i, (key, ..))| (*key, n + i as u32))
         .collect();
-    let points: Vec<Point> = keyed.into_par_iter().map(|(_, p)| simplify(*p)).collect();
+    let points: Vec<Point> = (keyed.into_par_iter())
+        .map(|(.., p)| simplify(*p))
+        .collect();
     (ids, points)
+}
+
+/// The largest side of the box the kernel's filter encloses `point` in (infinite when it
+/// cannot bound it).
+fn enclosure_size(point: &Point) -> f64 {
+    let (lo, hi) = point.enclosure();
+    let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    if size.is_nan() { f64::INFINITY } else { size }
 }
 
 /// The global id of a key.

@@ -61,12 +61,19 @@ pub(crate) fn decide(f: &impl Formula) -> Sign {
 /// decides.
 #[inline]
 pub(crate) fn decide_or_zero(f: &impl Formula, known_zero: impl FnOnce() -> bool) -> Sign {
-    let v = f.eval::<Interval>(&|p| p.filter_hom(), &Interval::exact);
-    match v.sign() {
+    match filter(f) {
         Some(s) => s,
         None if known_zero() => Sign::Zero,
         None => decide_exact(f),
     }
+}
+
+/// Stage 1 of the cascade alone: the sign where the interval filter decides it, `None` where
+/// only the exact stages could.
+#[inline]
+pub(crate) fn filter(f: &impl Formula) -> Option<Sign> {
+    f.eval::<Interval>(&|p| p.filter_hom(), &Interval::exact)
+        .sign()
 }
 
 /// Stages 2–4 of the cascade.

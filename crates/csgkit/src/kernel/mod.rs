@@ -11,8 +11,10 @@
 //!   plane through three points), [`orient3d_plane`] (side of the plane of an explicit
 //!   triangle), [`orient2d_projected`] (orientation after dropping one coordinate, for splitting
 //!   faces in 2D; [`orient2d_projected_or_collinear`] also takes the caller's structural proof
-//!   of collinearity, asked only where the filter cannot decide), [`compare_along`] and [`compare_lex`] (order of points along an axis,
-//!   lexicographic order), [`same_point`].
+//!   of collinearity, asked only where the filter cannot decide, and
+//!   [`orient2d_projected_if_clear`] answers only where the filter decides, for choices a
+//!   caller may decline), [`compare_along`] and [`compare_lex`] (order of points along an
+//!   axis, lexicographic order), [`same_point`].
 //!
 //! Every predicate returns a [`Sign`] or an [`Ordering`](std::cmp::Ordering) that is the true
 //! answer for the exact real numbers the f64 inputs denote. No epsilon anywhere.
@@ -128,8 +130,8 @@ pub(crate) mod tests;
 pub use implicit::{Lpi, Point, Point3, Tpi};
 pub use orient::{orient2d, orient3d};
 pub use predicates::{
-    compare_along, compare_lex, orient2d_projected, orient2d_projected_or_collinear,
-    orient3d_plane, orient3d_points, same_point,
+    compare_along, compare_lex, orient2d_projected, orient2d_projected_if_clear,
+    orient2d_projected_or_collinear, orient3d_plane, orient3d_points, same_point,
 };
 pub(crate) use rounding::round_point;
 pub use rounding::simplify;

@@ -58,10 +58,14 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
         let (bcx, bcy) = (b[0] - c[0], b[1] - c[1]);
         return Sign::of(acx * bcy - acy * bcx);
     }
+    let in_range = a.iter().chain(&b).chain(&c).all(|&x| in_robust_range(x));
+    if let Some(sign) = in_range.then(|| orient2d_filter(a, b, c)).flatten() {
+        return sign;
+    }
     if zero_by_comparison(&[a, b, c]) {
         return Sign::Zero;
     }
-    if a.iter().chain(&b).chain(&c).all(|&x| in_robust_range(x)) {
+    if in_range {
         let v = robust::orient2d(
             Coord { x: a[0], y: a[1] },
             Coord { x: b[0], y: b[1] },
@@ -90,15 +94,15 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
             + cdx * (ady * bdz - adz * bdy);
         return Sign::of(det);
     }
-    if zero_by_comparison(&[a, b, c, d]) {
+    let points = [a, b, c, d];
+    let in_range = points.as_flattened().iter().all(|&x| in_robust_range(x));
+    if let Some(sign) = in_range.then(|| orient3d_filter(a, b, c, d)).flatten() {
+        return sign;
+    }
+    if zero_by_comparison(&points) {
         return Sign::Zero;
     }
-    if a.iter()
-        .chain(&b)
-        .chain(&c)
-        .chain(&d)
-        .all(|&x| in_robust_range(x))
-    {
+    if in_range {
         let cv = |p: [f64; 3]| Coord3D {
             x: p[0],
             y: p[1],
@@ -134,6 +138,39 @@ fn small_grid_span<'a>(coords: impl Iterator<Item = &'a f64>, span: i32) -> bool
         }
     }
     true
+}
+
+/// `robust::orient2d`'s first stage on its own: the sign of the f64 determinant where its
+/// error bound (Ozaki et al.'s, as `robust` has it) proves it, `None` elsewhere. Copied so that
+/// the [zeros by comparison](self#zeros-by-comparison) are asked only where it cannot decide;
+/// `robust` then repeats it, a few operations, before its adaptive stages.
+#[inline]
+fn orient2d_filter(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<Sign> {
+    const THETA: f64 = 3.330_669_062_177_372_2e-16;
+    let left = (a[0] - c[0]) * (b[1] - c[1]);
+    let right = (a[1] - c[1]) * (b[0] - c[0]);
+    let det = left - right;
+    let bound = THETA * (left + right).abs();
+    (det >= bound || -det >= bound).then(|| Sign::of(det))
+}
+
+/// `robust::orient3d`'s first stage on its own (Shewchuk's `o3derrboundA`), as
+/// [`orient2d_filter`] is `robust::orient2d`'s.
+#[inline]
+fn orient3d_filter(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Option<Sign> {
+    const EPSILON: f64 = f64::EPSILON / 2.0;
+    const BOUND: f64 = (7.0 + 56.0 * EPSILON) * EPSILON;
+    let diff = |p: [f64; 3]| [p[0] - d[0], p[1] - d[1], p[2] - d[2]];
+    let ([adx, ady, adz], [bdx, bdy, bdz], [cdx, cdy, cdz]) = (diff(a), diff(b), diff(c));
+    let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+    let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+    let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+    let bound = BOUND * permanent;
+    (det > bound || -det > bound).then(|| Sign::of(det))
 }
 
 /// Whether the orientation of `points` (`N + 1` of them in `N` dimensions) is zero because
@@ -276,6 +313,57 @@ mod tests {
         assert!(!zero_by_comparison(&[u, v, w, [0.2, p, r]]));
         assert!(zero_by_comparison(&[[p, q], [r, p], [p, q]]));
         assert_eq!(orient2d([p, q], [r, p], [p, q]), Sign::Zero);
+    }
+
+    /// Off every grid, near and on planes and lines (where the filter must pass the question
+    /// on) and away from them (where it answers), the answers are the cascade's.
+    #[test]
+    fn filtered_answers_match_the_cascade() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut zeros, mut decided) = (0, 0);
+        for round in 0..20_000 {
+            let mut p3 = || [next(), next(), next()];
+            let (a, b, c, far) = (p3(), p3(), p3(), p3());
+            // `d` on the segment from `a` to the midpoint of `b c`, nudged by 0, 1 or 2 ulps.
+            let t = a[0].abs();
+            let mut d = [0.0; 3];
+            for k in 0..3 {
+                d[k] = a[k] + t * ((b[k] + c[k]) / 2.0 - a[k]);
+                for _ in 0..round % 3 {
+                    d[k] = d[k].next_up();
+                }
+            }
+            for d in [d, far] {
+                let fast = orient3d(a, b, c, d);
+                assert_eq!(
+                    fast,
+                    orient3d_cascade(a, b, c, d),
+                    "{a:?} {b:?} {c:?} {d:?}"
+                );
+                decided += usize::from(orient3d_filter(a, b, c, d).is_some());
+            }
+            let (a2, b2) = ([a[0], a[1]], [b[0], b[1]]);
+            let c2 = [a2[0] + t * (b2[0] - a2[0]), a2[1] + t * (b2[1] - a2[1])];
+            for c2 in [c2, [far[0], far[1]], a2] {
+                let fast = orient2d(a2, b2, c2);
+                assert_eq!(fast, orient2d_cascade(a2, b2, c2), "{a2:?} {b2:?} {c2:?}");
+                zeros += usize::from(fast == Sign::Zero);
+            }
+        }
+        assert!(
+            zeros >= 20_000,
+            "the repeated points and some on lines are zeros: {zeros}"
+        );
+        assert!(
+            decided > 20_000,
+            "the points off the plane are decided by the filter"
+        );
     }
 
     #[test]

@@ -9,7 +9,7 @@
 
 use std::cmp::Ordering;
 
-use super::cascade::{decide, decide_or_zero};
+use super::cascade::{decide, decide_or_zero, filter};
 use super::formulas::{AxisDiff, Det3, Det4, PlaneSide};
 use super::implicit::{Point, Point3};
 use super::{Axis, Sign, orient2d, orient3d};
@@ -95,7 +95,47 @@ pub fn orient2d_projected_or_collinear(
         u,
         v,
     };
-    decide_or_zero(&det, || collinear_by_construction(a, b, c) || collinear()).times(w)
+    let proven = || {
+        collinear_by_construction(a, b, c) || on_a_projected_line(a, b, c, [u, v]) || collinear()
+    };
+    decide_or_zero(&det, proven).times(w)
+}
+
+/// True when two of the points are explicit and the third is an [`Lpi`](super::Lpi) whose
+/// line's ends both project onto the line through the two (exact [`orient2d`] of explicit
+/// points): the projection of that line, so of the point, lies on it. A crossing on a
+/// triangle's edge line, where the crossing edge is another edge along that line (a
+/// T-junction, a long edge beside short ones), is of this kind.
+fn on_a_projected_line(a: &Point, b: &Point, c: &Point, [u, v]: [usize; 2]) -> bool {
+    let ((x, y), lpi) = match (a, b, c) {
+        (Point::Explicit(x), Point::Explicit(y), Point::Lpi(l))
+        | (Point::Explicit(x), Point::Lpi(l), Point::Explicit(y))
+        | (Point::Lpi(l), Point::Explicit(x), Point::Explicit(y)) => ((x, y), l),
+        _ => return false,
+    };
+    let project = |p: &Point3| [p[u], p[v]];
+    let (s, t, _) = lpi.definition();
+    let (x, y) = (project(x), project(y));
+    orient2d(x, y, project(&s)) == Sign::Zero && orient2d(x, y, project(&t)) == Sign::Zero
+}
+
+/// [`orient2d_projected`] where it is cheap to know: the exact sign of explicit points, the
+/// interval filter's sign of others, `None` where only the exact stages could tell. For
+/// choices a caller may decline when the answer is not at hand (an optional flip), so that
+/// nearly degenerate configurations cost nothing there.
+pub fn orient2d_projected_if_clear(a: &Point, b: &Point, c: &Point, drop: Axis) -> Option<Sign> {
+    let k = drop.index();
+    let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+    if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
+        return Some(orient2d([a[u], a[v]], [b[u], b[v]], [c[u], c[v]]));
+    }
+    let w = a.w_sign().times(b.w_sign()).times(c.w_sign());
+    let det = Det3 {
+        pts: [a, b, c],
+        u,
+        v,
+    };
+    filter(&det).map(|s| s.times(w))
 }
 
 /// True when the three points lie on one line by definition: some point is an
