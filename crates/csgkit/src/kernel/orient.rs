@@ -207,6 +207,7 @@ fn orient2d_cascade(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::tests::xorshift;
 
     #[test]
     fn conventions() {
@@ -238,11 +239,9 @@ mod tests {
     /// exists for, near the largest spans it accepts.
     #[test]
     fn small_grid_answers_match_the_cascade() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut random = xorshift(0x2545_f491_4f6c_dd1d);
         let mut next = |bits: u32| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
+            let state = random();
             let magnitude = (state >> 11) % (1 << bits);
             let value = magnitude as f64 * 2f64.powi(-3);
             if state & 1 == 0 { value } else { -value }
@@ -319,13 +318,8 @@ mod tests {
     /// on) and away from them (where it answers), the answers are the cascade's.
     #[test]
     fn filtered_answers_match_the_cascade() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut random = xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut next = || (random() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
         let (mut zeros, mut decided) = (0, 0);
         for round in 0..20_000 {
             let mut p3 = || [next(), next(), next()];

@@ -112,6 +112,7 @@ fn times_pow2(mut x: f64, mut exp: i64) -> f64 {
 mod tests {
     use super::*;
     use crate::kernel::oracle;
+    use crate::kernel::tests::xorshift;
     use num_traits::Signed;
 
     /// The segment (0,0,0)-(4,2,6) meets the plane z = 3 at (2, 1, 3).
@@ -149,13 +150,8 @@ mod tests {
 
     #[test]
     fn rounding_agrees_with_the_rational_oracle() {
-        let mut seed = 0x1234_5678_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 200.0 - 100.0
-        };
+        let mut random = xorshift(0x1234_5678);
+        let mut next = || (random() >> 11) as f64 / (1u64 << 53) as f64 * 200.0 - 100.0;
         for _ in 0..500 {
             let mut pt = || [next(), next(), next()];
             let (p, q, r, s, t) = (pt(), pt(), pt(), pt(), pt());

@@ -25,6 +25,17 @@ use super::formulas::{AxisDiff, Det3, Det4, PlaneSide};
 use super::oracle::{Q, Q3, oracle_lpi, oracle_point, oracle_tpi, q, q3, qcross, qdot, qsub};
 use super::*;
 
+/// A xorshift64 stream for the kernel's unit tests that draw many plain cases: reproducible,
+/// and cheap enough for tens of thousands of rounds.
+pub(crate) fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
+}
+
 fn qsign(x: &Q) -> Sign {
     if x.is_zero() {
         Sign::Zero
