@@ -23,8 +23,9 @@
 //! coordinates), many zeros still need no arithmetic: points that share one coordinate lie on
 //! one axis plane (the faces two operands share at `z = 0.5`, the flat top of a cut), and a
 //! point given twice (a vertex tested against a triangle it belongs to) makes any set
-//! coplanar and collinear. Both are answered by comparisons before `robust` runs its adaptive
-//! stages to find the zero, which costs some thirty times its filter.
+//! coplanar and collinear. Both are answered by comparisons where `robust`'s filter (run
+//! first, so general positions pay nothing more) cannot decide, before its adaptive stages,
+//! which find such a zero at some thirty times the filter's cost.
 
 use robust::{Coord, Coord3D};
 
