@@ -210,7 +210,7 @@ pub(crate) fn split(
     progress: &Progress,
 ) -> Result<Arrangement, StageError> {
     let marks = contacts.marks;
-    let (ids, points) = number_points(input, &marks);
+    let (ids, points) = number_points(input.positions.len(), &marks);
     let groups: Vec<&[(u32, Mark)]> = marks.chunk_by(|x, y| x.0 == y.0).collect();
     let counter = progress.counter(Stage::Split, groups.len());
     let splits: Vec<Result<TriangleSplit, StageError>> =
@@ -281,7 +281,10 @@ pub(crate) fn split(
 
 /// Global vertex ids of the contact points: an input vertex keeps its id; every other key
 /// gets the next id, in key order (deterministic).
-fn number_points(input: &Input, marks: &[(u32, Mark)]) -> (FxHashMap<PointKey, u32>, Vec<Point>) {
+fn number_points(
+    vertex_count: usize,
+    marks: &[(u32, Mark)],
+) -> (FxHashMap<PointKey, u32>, Vec<Point>) {
     // Keys with references to their points: the sort moves small tuples, not the points.
     // Triangle pairs that find one point may define it differently (an edge's line from
     // either end, a plane from either triangle of a planar quad), and the definition kept
@@ -304,7 +307,7 @@ fn number_points(input: &Input, marks: &[(u32, Mark)]) -> (FxHashMap<PointKey, u
             .then(x.2.cmp(&y.2))
     });
     keyed.dedup_by(|x, y| x.0 == y.0);
-    let n = input.positions.len() as u32;
+    let n = vertex_count as u32;
     let ids = (keyed.iter().enumerate())
         .map(|(i, (key, ..))| (*key, n + i as u32))
         .collect();
@@ -593,5 +596,37 @@ fn crossing_point(input: &Input, t: u32, sa: Support, sb: Support) -> Option<(Po
             )?;
             Some((PointKey::EdgeEdge { edges }, point))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One crossing found twice, its edge's line taken from either end: both orders of the
+    /// marks keep the same definition, the one the filter encloses tighter.
+    #[test]
+    fn a_point_keeps_one_definition_whatever_the_order_of_its_marks() {
+        let plane = [[0.0, 0.0, 0.1], [1.0, 0.0, 0.3], [0.0, 1.0, 0.2]];
+        let (s, t) = ([0.3, 0.2, -1.0], [0.35, 0.21, 1.7]);
+        let crossing = |p, q| Point::lpi(p, q, plane[0], plane[1], plane[2]).expect("crosses");
+        let (forward, backward) = (crossing(s, t), crossing(t, s));
+        assert_ne!(
+            enclosure_size(&forward),
+            enclosure_size(&backward),
+            "the two definitions are not equally tight"
+        );
+        let key = PointKey::EdgeTriangle {
+            edge: [3, 4],
+            triangle: 7,
+        };
+        let mark = |p: Point| (0, Mark::Point(key, p));
+        let (ids, kept) = number_points(5, &[mark(forward), mark(backward)]);
+        let (ids_reversed, kept_reversed) = number_points(5, &[mark(backward), mark(forward)]);
+        assert_eq!((ids[&key], ids_reversed[&key]), (5, 5));
+        assert_eq!((kept.len(), kept_reversed.len()), (1, 1));
+        assert_eq!(format!("{:?}", kept[0]), format!("{:?}", kept_reversed[0]));
+        let tighter = enclosure_size(&forward).min(enclosure_size(&backward));
+        assert_eq!(enclosure_size(&kept[0]), tighter);
     }
 }
