@@ -71,7 +71,7 @@ use crate::par::*;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
-use crate::kernel::{Axis, Point3, Sign, orient2d, orient3d};
+use crate::kernel::{Point3, Sign, orient2d, orient3d};
 use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces_partial, weld_positions};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).
@@ -459,7 +459,7 @@ fn by_classification(a: &Triangle, b: &Triangle, shared: usize) -> bool {
 /// convex, so they do exactly when one's corner at `v` contains a ray along an edge of the
 /// other (two angular sectors below 180° overlap only so).
 fn wedges_overlap(a: &Triangle, b: &Triangle) -> bool {
-    let project = projection(a.drop_axis());
+    let project = |p| a.drop_axis().project(p);
     let corner = |t: &Triangle, other: &Triangle| {
         let (v, p) = (t.vertices(), t.positions().map(project));
         let k = (0..3)
@@ -479,7 +479,7 @@ fn wedges_overlap(a: &Triangle, b: &Triangle) -> bool {
 /// `a` and `b` share an edge and are coplanar: whether their third vertices lie on the same
 /// side of the shared edge, so that they overlap with positive area.
 fn folded_over(a: &Triangle, b: &Triangle) -> bool {
-    let project = projection(a.drop_axis());
+    let project = |p| a.drop_axis().project(p);
     let (v, p) = (a.vertices(), a.positions().map(project));
     let Some(k) = (0..3).find(|&i| !b.vertices().contains(&v[i])) else {
         return false;
@@ -489,15 +489,6 @@ fn folded_over(a: &Triangle, b: &Triangle) -> bool {
         .find(|&i| !v.contains(&b.vertices()[i]))
         .map(|i| project(b.positions()[i]));
     third.is_some_and(|q| orient2d(s0, s1, p[k]) == orient2d(s0, s1, q))
-}
-
-/// The projection that drops coordinate `drop`, keeping the other two in cyclic order as
-/// [`orient2d_projected`](crate::kernel::orient2d_projected) does: on explicit points the
-/// coplanar tests above are its answers, without building kernel points.
-fn projection(drop: Axis) -> impl Fn(Point3) -> [f64; 2] + Copy {
-    let k = drop.index();
-    let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-    move |p| [p[u], p[v]]
 }
 
 #[cfg(test)]

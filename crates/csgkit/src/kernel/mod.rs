@@ -216,6 +216,15 @@ impl Axis {
         }
     }
 
+    /// The projection that drops this coordinate, keeping the other two in cyclic order —
+    /// `(y, z)` for `X`, `(z, x)` for `Y`, `(x, y)` for `Z` — the frame of
+    /// [`orient2d_projected`].
+    #[inline]
+    pub fn project(self, p: Point3) -> [f64; 2] {
+        let k = self.index();
+        [p[(k + 1) % 3], p[(k + 2) % 3]]
+    }
+
     /// The axis of the largest absolute component of `v` (the first on ties): the coordinate
     /// to drop when projecting a face with normal `v` to 2D. Any choice with a nonzero
     /// component is exact; the largest keeps the projection well-shaped.

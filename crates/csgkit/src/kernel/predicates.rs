@@ -87,7 +87,7 @@ pub fn orient2d_projected_or_collinear(
     let k = drop.index();
     let (u, v) = ((k + 1) % 3, (k + 2) % 3);
     if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
-        return orient2d([a[u], a[v]], [b[u], b[v]], [c[u], c[v]]);
+        return orient2d(drop.project(*a), drop.project(*b), drop.project(*c));
     }
     let w = a.w_sign().times(b.w_sign()).times(c.w_sign());
     let det = Det3 {
@@ -95,9 +95,8 @@ pub fn orient2d_projected_or_collinear(
         u,
         v,
     };
-    let proven = || {
-        collinear_by_construction(a, b, c) || on_a_projected_line(a, b, c, [u, v]) || collinear()
-    };
+    let proven =
+        || collinear_by_construction(a, b, c) || on_a_projected_line(a, b, c, drop) || collinear();
     decide_or_zero(&det, proven).times(w)
 }
 
@@ -106,17 +105,16 @@ pub fn orient2d_projected_or_collinear(
 /// points): the projection of that line, so of the point, lies on it. A crossing on a
 /// triangle's edge line, where the crossing edge is another edge along that line (a
 /// T-junction, a long edge beside short ones), is of this kind.
-fn on_a_projected_line(a: &Point, b: &Point, c: &Point, [u, v]: [usize; 2]) -> bool {
+fn on_a_projected_line(a: &Point, b: &Point, c: &Point, drop: Axis) -> bool {
     let ((x, y), lpi) = match (a, b, c) {
         (Point::Explicit(x), Point::Explicit(y), Point::Lpi(l))
         | (Point::Explicit(x), Point::Lpi(l), Point::Explicit(y))
         | (Point::Lpi(l), Point::Explicit(x), Point::Explicit(y)) => ((x, y), l),
         _ => return false,
     };
-    let project = |p: &Point3| [p[u], p[v]];
     let (s, t, _) = lpi.definition();
-    let (x, y) = (project(x), project(y));
-    orient2d(x, y, project(&s)) == Sign::Zero && orient2d(x, y, project(&t)) == Sign::Zero
+    let (x, y) = (drop.project(*x), drop.project(*y));
+    orient2d(x, y, drop.project(s)) == Sign::Zero && orient2d(x, y, drop.project(t)) == Sign::Zero
 }
 
 /// [`orient2d_projected`] where it is cheap to know: the exact sign of explicit points, the
@@ -127,7 +125,11 @@ pub fn orient2d_projected_if_clear(a: &Point, b: &Point, c: &Point, drop: Axis) 
     let k = drop.index();
     let (u, v) = ((k + 1) % 3, (k + 2) % 3);
     if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
-        return Some(orient2d([a[u], a[v]], [b[u], b[v]], [c[u], c[v]]));
+        return Some(orient2d(
+            drop.project(*a),
+            drop.project(*b),
+            drop.project(*c),
+        ));
     }
     let w = a.w_sign().times(b.w_sign()).times(c.w_sign());
     let det = Det3 {
