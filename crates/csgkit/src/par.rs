@@ -3,8 +3,8 @@
 //! the browser page runs the library in one Web Worker).
 //!
 //! Every module writes `use crate::par::*;` where it would write `use rayon::prelude::*;`,
-//! and `par::join` / `par::scope` / `par::current_num_threads` for rayon's functions, so a
-//! call site reads the same in both builds. Without `parallel`, `par_iter`, `into_par_iter`,
+//! and `par::join` / `par::current_num_threads` for rayon's functions, so a call site reads
+//! the same in both builds. Without `parallel`, `par_iter`, `into_par_iter`,
 //! `par_chunks`, `par_sort_*` and `par_extend` are their standard-library counterparts, and
 //! the few rayon adaptors the standard iterators lack by that name (`flat_map_iter`,
 //! `find_map_first`, `reduce_with`) are defined on every [`Iterator`]; everything else a
@@ -16,16 +16,234 @@
 //! rayon call that has no sequential twin here is a compile error of the sequential build,
 //! which CI builds (`--no-default-features`).
 //!
+//! A run enters the pool through [`on_pool_or_inline`], which keeps small runs on the
+//! calling thread: with `parallel`, the entry methods (`into_par_iter`, `par_iter`,
+//! `par_iter_mut`, `par_chunks`) are rayon's held to one job per loop on such a thread, and
+//! `join` runs its halves in turn there, so no loop of the run reaches the pool.
+//!
 //! Hand-written because the crates that offer such a stand-in either keep rayon as a
 //! dependency or differ from rayon's signatures where std's methods share its names.
 
 #[cfg(feature = "parallel")]
-pub(crate) use rayon::prelude::*;
-#[cfg(feature = "parallel")]
-pub(crate) use rayon::{current_num_threads, join, scope};
+pub(crate) use parallel::*;
 
 #[cfg(not(feature = "parallel"))]
 pub(crate) use sequential::*;
+
+/// How long a loop of costly items in a run that runs inline goes on here before it hands
+/// what is left to the pool: waking a sleeping worker and waiting for it costs tens of
+/// microseconds here (2 cores), so a loop that has not ended by then is worth that.
+pub(crate) const POOL_PAYS_FROM: std::time::Duration = std::time::Duration::from_micros(100);
+
+/// Runs `run` on `items` in chunks, each appending its chunk's results to the vector it is
+/// given; returns the results in item order. The loop for items that cost microseconds each
+/// (exact intersections, splits, pair tests), where the caller wants to act between chunks
+/// (progress, cancellation) or the items are too few for rayon's own splitting to balance.
+///
+/// On a thread that runs a small run inline ([`on_pool_or_inline`]), the chunks run here
+/// until the loop has taken [`POOL_PAYS_FROM`]; what is left then goes to the pool. A loop of
+/// cheap items ends inline, one of costly items (exact splits of nearly coincident
+/// crossings) still spreads, and the loop's running time, not a guess of the cost of its
+/// items, tells them apart.
+pub(crate) fn chunks<T: Sync, R: Send>(
+    items: &[T],
+    run: impl Fn(&[T], &mut Vec<R>) + Sync,
+) -> Vec<R> {
+    let chunk_len = chunk_len(items.len());
+    let mut out = Vec::new();
+    let mut rest = items;
+    if is_inline() {
+        let clock = web_time::Instant::now();
+        loop {
+            let chunk;
+            (chunk, rest) = rest.split_at(chunk_len.min(rest.len()));
+            run(chunk, &mut out);
+            if rest.is_empty() {
+                return out;
+            }
+            if clock.elapsed() >= POOL_PAYS_FROM {
+                break;
+            }
+        }
+    }
+    on_pool(|| {
+        out.par_extend(rest.par_chunks(chunk_len).flat_map_iter(|chunk| {
+            let mut chunk_out = Vec::new();
+            run(chunk, &mut chunk_out);
+            chunk_out
+        }));
+    });
+    out
+}
+
+/// The items per chunk of [`chunks`]: about 32 chunks per thread, so the scheduler still
+/// balances the load, and at most 1024, so a chunk of the costliest items (exact triangle
+/// splits) ends within milliseconds of a cancellation.
+fn chunk_len(items: usize) -> usize {
+    (items / (32 * current_num_threads())).clamp(1, 1024)
+}
+
+#[cfg(feature = "parallel")]
+mod parallel {
+    use std::cell::Cell;
+
+    use rayon::iter::MinLen;
+    pub(crate) use rayon::prelude::{
+        IndexedParallelIterator, ParallelExtend, ParallelIterator, ParallelSliceMut,
+    };
+
+    /// The work size, in input faces, from which a run is worth the thread pool: below it,
+    /// [`on_pool_or_inline`] runs it on the calling thread. Measured on the peers harness's cases
+    /// (interleaved medians, 2 cores): two unit cubes touching (24 faces) take 10–40 % less time
+    /// inline, where a hand-over to a sleeping worker and the wake-ups of the other cost more
+    /// than the loops; two cubes rotated by 1e-7 rad (24 faces, whose exact splits spread through
+    /// [`chunks`]) and Menger level 1 (48) take the same; Menger level 2 (372 faces in 31
+    /// operands, 20 ms) takes 15 % more, its checks of the inputs and of the result being loops
+    /// that only rayon's splitting spreads.
+    const POOL_FROM_SIZE: usize = 100;
+
+    thread_local! {
+        /// Whether this thread is running a small run inline ([`on_pool_or_inline`]).
+        static INLINE: Cell<bool> = const { Cell::new(false) };
+    }
+
+    /// The least number of items rayon may give one job: all of them while this thread
+    /// runs inline, so no loop splits and none reaches the pool (a split is a `join`,
+    /// which from outside the pool injects a job and blocks until a worker takes it).
+    fn min_len() -> usize {
+        if INLINE.get() { usize::MAX } else { 1 }
+    }
+
+    /// Runs `f` on a worker thread of the pool when `size` (input faces) is
+    /// [`POOL_FROM_SIZE`] or more, else on this thread with every parallel loop inside it run
+    /// as one sequential job.
+    ///
+    /// Inline is a property of the thread, not of an argument passed down the stages: a
+    /// run that never leaves its thread has every loop of its stages on that thread, so a
+    /// thread-local flag reaches all of them, and the loops of a run on the pool, which
+    /// run on workers, never see it.
+    pub(crate) fn on_pool_or_inline<R: Send>(size: usize, f: impl FnOnce() -> R + Send) -> R {
+        if size >= POOL_FROM_SIZE || INLINE.get() {
+            // One hand-over to the pool for the whole run: the stages' loops then start on
+            // a worker thread, where rayon splits work onto its own queue, instead of each
+            // loop injecting its job from outside and blocking until a worker wakes.
+            return rayon::scope(|_| f());
+        }
+        /// Clears the flag when the run ends, by return or by unwinding.
+        struct Reset;
+        impl Drop for Reset {
+            fn drop(&mut self) {
+                INLINE.set(false);
+            }
+        }
+        INLINE.set(true);
+        let _reset = Reset;
+        f()
+    }
+
+    /// Runs `f`, a loop whose items are costly enough to be worth the pool even in a run
+    /// small enough to run inline, on the pool: from an inline thread, with one hand-over
+    /// (and every loop inside it split as rayon splits), else here.
+    pub(crate) fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+        if INLINE.get() {
+            rayon::scope(|_| f())
+        } else {
+            f()
+        }
+    }
+
+    /// Whether this thread runs a small run inline.
+    pub(crate) fn is_inline() -> bool {
+        INLINE.get()
+    }
+
+    /// `rayon::join`, or `a` then `b` while this thread runs inline.
+    pub(crate) fn join<A, B, RA, RB>(a: A, b: B) -> (RA, RB)
+    where
+        A: FnOnce() -> RA + Send,
+        B: FnOnce() -> RB + Send,
+        RA: Send,
+        RB: Send,
+    {
+        if INLINE.get() {
+            (a(), b())
+        } else {
+            rayon::join(a, b)
+        }
+    }
+
+    /// The threads a loop may run on: one while this thread runs inline.
+    pub(crate) fn current_num_threads() -> usize {
+        if INLINE.get() {
+            1
+        } else {
+            rayon::current_num_threads()
+        }
+    }
+
+    /// rayon's `into_par_iter`, held to one job while this thread runs inline.
+    pub(crate) trait IntoParallelIterator:
+        rayon::iter::IntoParallelIterator + Sized
+    where
+        Self::Iter: IndexedParallelIterator,
+    {
+        fn into_par_iter(self) -> MinLen<Self::Iter> {
+            rayon::iter::IntoParallelIterator::into_par_iter(self).with_min_len(min_len())
+        }
+    }
+
+    impl<T> IntoParallelIterator for T
+    where
+        T: rayon::iter::IntoParallelIterator,
+        T::Iter: IndexedParallelIterator,
+    {
+    }
+
+    /// rayon's `par_iter`, held to one job while this thread runs inline.
+    pub(crate) trait IntoParallelRefIterator<'data> {
+        type Iter: IndexedParallelIterator;
+        fn par_iter(&'data self) -> MinLen<Self::Iter>;
+    }
+
+    impl<'data, C> IntoParallelRefIterator<'data> for C
+    where
+        C: rayon::iter::IntoParallelRefIterator<'data> + ?Sized,
+        C::Iter: IndexedParallelIterator,
+    {
+        type Iter = C::Iter;
+        fn par_iter(&'data self) -> MinLen<Self::Iter> {
+            rayon::iter::IntoParallelRefIterator::par_iter(self).with_min_len(min_len())
+        }
+    }
+
+    /// rayon's `par_iter_mut`, held to one job while this thread runs inline.
+    pub(crate) trait IntoParallelRefMutIterator<'data> {
+        type Iter: IndexedParallelIterator;
+        fn par_iter_mut(&'data mut self) -> MinLen<Self::Iter>;
+    }
+
+    impl<'data, C> IntoParallelRefMutIterator<'data> for C
+    where
+        C: rayon::iter::IntoParallelRefMutIterator<'data> + ?Sized,
+        C::Iter: IndexedParallelIterator,
+    {
+        type Iter = C::Iter;
+        fn par_iter_mut(&'data mut self) -> MinLen<Self::Iter> {
+            rayon::iter::IntoParallelRefMutIterator::par_iter_mut(self).with_min_len(min_len())
+        }
+    }
+
+    /// rayon's `par_chunks`, held to one job while this thread runs inline.
+    pub(crate) trait ParallelSlice<T: Sync> {
+        fn par_chunks(&self, size: usize) -> MinLen<rayon::slice::Chunks<'_, T>>;
+    }
+
+    impl<T: Sync> ParallelSlice<T> for [T] {
+        fn par_chunks(&self, size: usize) -> MinLen<rayon::slice::Chunks<'_, T>> {
+            rayon::slice::ParallelSlice::par_chunks(self, size).with_min_len(min_len())
+        }
+    }
+}
 
 #[cfg(not(feature = "parallel"))]
 mod sequential {
@@ -38,12 +256,19 @@ mod sequential {
         (a(), b())
     }
 
-    /// The scope of [`scope`]: nothing is spawned on it.
-    pub(crate) struct Scope;
+    /// Without threads, every run is inline, and there is no pool to hand a loop to.
+    pub(crate) fn is_inline() -> bool {
+        false
+    }
 
-    /// Runs `f` here, as `rayon::scope` runs it on a worker thread.
-    pub(crate) fn scope<R>(f: impl FnOnce(&Scope) -> R) -> R {
-        f(&Scope)
+    /// Runs `f` here: without threads, there is no pool.
+    pub(crate) fn on_pool<R>(f: impl FnOnce() -> R) -> R {
+        f()
+    }
+
+    /// Runs `f` here: every run is inline without threads.
+    pub(crate) fn on_pool_or_inline<R>(_size: usize, f: impl FnOnce() -> R) -> R {
+        f()
     }
 
     /// One thread: the one running.
@@ -176,5 +401,71 @@ mod sequential {
         fn par_extend<I: IntoIterator<Item = T>>(&mut self, items: I) {
             self.extend(items);
         }
+    }
+}
+
+#[cfg(all(test, feature = "parallel"))]
+mod tests {
+    use std::thread::{self, ThreadId};
+    use std::time::Duration;
+
+    use super::*;
+
+    fn here() -> ThreadId {
+        thread::current().id()
+    }
+
+    #[test]
+    fn a_small_run_keeps_every_loop_on_its_thread() {
+        let threads: Vec<ThreadId> = on_pool_or_inline(10, || {
+            let (a, b) = join(
+                || {
+                    (0..5000)
+                        .into_par_iter()
+                        .map(|_| here())
+                        .collect::<Vec<_>>()
+                },
+                || {
+                    vec![0u8; 5000]
+                        .par_iter()
+                        .map(|_| here())
+                        .collect::<Vec<_>>()
+                },
+            );
+            a.into_iter().chain(b).collect()
+        });
+        assert!(threads.iter().all(|&t| t == here()));
+        assert!(!is_inline(), "the flag outlives the run");
+    }
+
+    #[test]
+    fn a_large_run_goes_to_the_pool() {
+        assert_ne!(on_pool_or_inline(100_000, here), here());
+    }
+
+    #[test]
+    fn a_long_loop_of_a_small_run_hands_its_rest_to_the_pool_in_order() {
+        let items: Vec<u32> = (0..1000).collect();
+        let slow = |chunk: &[u32], out: &mut Vec<(u32, ThreadId)>| {
+            for &i in chunk {
+                thread::sleep(Duration::from_micros(2));
+                out.push((2 * i, here()));
+            }
+        };
+        let done = on_pool_or_inline(10, || chunks(&items, slow));
+        let values: Vec<u32> = done.iter().map(|&(v, _)| v).collect();
+        assert_eq!(values, items.iter().map(|i| 2 * i).collect::<Vec<_>>());
+        assert_eq!(done[0].1, here(), "the loop starts inline");
+        assert!(
+            done.iter().any(|&(_, t)| t != here()),
+            "the rest went to the pool"
+        );
+    }
+
+    #[test]
+    fn a_panic_in_a_small_run_clears_the_flag() {
+        let result = std::panic::catch_unwind(|| on_pool_or_inline(10, || panic!("stage failed")));
+        assert!(result.is_err());
+        assert!(!is_inline());
     }
 }

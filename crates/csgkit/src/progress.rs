@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use web_time::Instant;
 
-use crate::par::{self, *};
+use crate::par;
 
 /// A stage of an engine, as reported to a [`Progress`] callback and timed in each engine's
 /// statistics.
@@ -262,10 +262,11 @@ impl Counter<'_> {
         Ok(())
     }
 
-    /// Runs `f` on `items` in parallel chunks, each appending its chunk's results to the
-    /// vector it is given; returns the results in item order. A chunk is skipped once the
-    /// operation is cancelled, and advances the count by its length when done, so after a
-    /// cancellation the result is incomplete, which [`Counter::finish`] reports.
+    /// Runs `f` on `items` in parallel chunks ([`par::chunks`]), each appending its chunk's
+    /// results to the vector it is given; returns the results in item order. A chunk is
+    /// skipped once the operation is cancelled, and advances the count by its length when
+    /// done, so after a cancellation the result is incomplete, which [`Counter::finish`]
+    /// reports.
     pub(crate) fn par_chunks<T, R>(
         &self,
         items: &[T],
@@ -275,25 +276,13 @@ impl Counter<'_> {
         T: Sync,
         R: Send,
     {
-        items
-            .par_chunks(chunk_len(items.len()))
-            .flat_map_iter(|chunk| {
-                let mut out = Vec::new();
-                if !self.is_cancelled() {
-                    f(chunk, &mut out);
-                    self.advance(chunk.len());
-                }
-                out
-            })
-            .collect()
+        par::chunks(items, |chunk, out| {
+            if !self.is_cancelled() {
+                f(chunk, out);
+                self.advance(chunk.len());
+            }
+        })
     }
-}
-
-/// The items per chunk of [`Counter::par_chunks`]: about 32 chunks per thread, so the
-/// scheduler still balances the load, and at most 1024, so a chunk of the costliest items
-/// (exact triangle splits) ends within milliseconds of a cancellation.
-fn chunk_len(items: usize) -> usize {
-    (items / (32 * par::current_num_threads())).clamp(1, 1024)
 }
 
 /// Times the consecutive stages of one run.

@@ -229,11 +229,10 @@ pub fn boolean_expression(
             operands.len()
         )));
     }
-    // One hand-over to the thread pool for the whole run: the stages' parallel loops then
-    // start on a worker thread, where rayon splits work onto its own queue, instead of each
-    // loop injecting its job from outside and blocking until a worker wakes (dozens of
-    // thread hand-overs, which cost more than the whole boolean of two small operands).
-    par::scope(|_| run_expression(expression, operands, options, progress))
+    let faces = operands.iter().map(|mesh| mesh.face_count()).sum();
+    par::on_pool_or_inline(faces, || {
+        run_expression(expression, operands, options, progress)
+    })
 }
 
 /// [`boolean_expression`] on a worker thread of the pool.

@@ -67,7 +67,7 @@
 
 use std::cmp::Ordering;
 
-use crate::par::*;
+use crate::par::{self, *};
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
@@ -165,10 +165,9 @@ pub(crate) fn intersecting_pairs_of(triangles: &[Triangle], marked: &[u32]) -> V
     let bvh = Bvh::build_with(triangles.len(), box_of);
     let is_marked = |j: u32| marked.binary_search(&j).is_ok();
     let prepared: Vec<Prepared> = triangles.par_iter().map(Prepared::new).collect();
-    let mut pairs: Vec<(u32, u32)> = (marked.par_iter())
-        .flat_map_iter(|&i| {
+    let mut pairs: Vec<(u32, u32)> = par::chunks(marked, |chunk, hits| {
+        for &i in chunk {
             let a = &prepared[i as usize];
-            let mut hits = Vec::new();
             bvh.visit_overlapping(&box_of(i as usize), |j| {
                 // A pair of marked triangles is tested from its smaller one only.
                 if j == i || (j < i && is_marked(j)) {
@@ -179,9 +178,8 @@ pub(crate) fn intersecting_pairs_of(triangles: &[Triangle], marked: &[u32]) -> V
                     hits.push((i.min(j), i.max(j)));
                 }
             });
-            hits
-        })
-        .collect();
+        }
+    });
     pairs.par_sort_unstable();
     pairs.dedup();
     pairs
