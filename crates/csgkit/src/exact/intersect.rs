@@ -27,8 +27,9 @@
 //!    [`Intersection::TouchingSegment`]. An end of one chord is located on the other chord as
 //!    one of its ends (the same point), its interior (an edge or the face of that triangle) or
 //!    outside.
-//! 5. Coplanar: in the projection that drops the coordinate [`Triangle`] chose
-//!    ([`orient2d_projected`], orientation-preserving up to one known sign), collect the
+//! 5. Coplanar: in the projection that drops the coordinate [`Triangle`] chose (exact
+//!    [`orient2d`] of the projected input vertices, orientation-preserving up to one known
+//!    sign; [`orient2d_projected`] once crossing points are among them), collect the
 //!    vertices of each triangle inside the other (closed) and the proper crossings of an edge
 //!    of `a` with an edge of `b` ([`Point::edge_crossing`]). These are the corners of the
 //!    convex overlap; none repeats (a vertex of `b` on a vertex of `a` is taken once). Zero,
@@ -54,7 +55,7 @@
 use std::cmp::Ordering;
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, compare_along, compare_lex, orient2d_projected, orient3d,
+    Axis, Point, Point3, Sign, compare_along, compare_lex, orient2d, orient2d_projected, orient3d,
 };
 
 /// A sorted pair of vertex ids: an edge, independent of the triangle that uses it.
@@ -491,10 +492,14 @@ fn merged(x: &Triangle, end: End, y: &Triangle, other: Feature, theirs: Point) -
     contact(x, end.own, y, other, point)
 }
 
-/// Locates a point of the plane of `t` on `t`: `None` outside.
-fn locate(p: &Point, t: &Triangle) -> Option<Feature> {
-    let v = t.positions.map(Point::Explicit);
-    let s = [0, 1, 2].map(|i| orient2d_projected(&v[i], &v[(i + 1) % 3], p, t.drop).times(t.turn));
+/// Locates an input vertex in the plane of `t` on `t`: `None` outside.
+///
+/// Like the rest of the coplanar case, on the projected f64 coordinates of input vertices:
+/// exact [`orient2d`], with no kernel [`Point`] built or copied.
+fn locate(p: Point3, t: &Triangle) -> Option<Feature> {
+    let p = t.drop.project(p);
+    let v = t.positions.map(|x| t.drop.project(x));
+    let s = [0, 1, 2].map(|i| orient2d(v[i], v[(i + 1) % 3], p).times(t.turn));
     if s.contains(&Sign::Negative) {
         return None;
     }
@@ -514,10 +519,9 @@ fn locate(p: &Point, t: &Triangle) -> Option<Feature> {
 fn edge_crossing(a: &Triangle, i: usize, b: &Triangle, j: usize) -> Option<Point> {
     let e = [a.positions[i], a.positions[(i + 1) % 3]];
     let f = [b.positions[j], b.positions[(j + 1) % 3]];
-    let [e0, e1, f0, f1] = [e[0], e[1], f[0], f[1]].map(Point::Explicit);
-    let side = |p: &Point, q: &Point, r: &Point| orient2d_projected(p, q, r, a.drop);
-    let (s0, s1) = (side(&f0, &f1, &e0), side(&f0, &f1, &e1));
-    let (s2, s3) = (side(&e0, &e1, &f0), side(&e0, &e1, &f1));
+    let [e0, e1, f0, f1] = [e[0], e[1], f[0], f[1]].map(|x| a.drop.project(x));
+    let (s0, s1) = (orient2d(f0, f1, e0), orient2d(f0, f1, e1));
+    let (s2, s3) = (orient2d(e0, e1, f0), orient2d(e0, e1, f1));
     let proper = s0 != Sign::Zero && s1 == s0.flip() && s2 != Sign::Zero && s3 == s2.flip();
     proper.then(|| Point::edge_crossing(a.positions, e, f, a.drop))?
 }
@@ -526,17 +530,23 @@ fn edge_crossing(a: &Triangle, i: usize, b: &Triangle, j: usize) -> Option<Point
 fn coplanar(a: &Triangle, b: &Triangle) -> Intersection {
     let mut corners = Vec::new();
     for i in 0..3 {
-        let p = Point::Explicit(a.positions[i]);
-        if let Some(f) = locate(&p, b) {
-            corners.push(contact(a, Boundary::Vertex(i), b, f, p));
+        let p = a.positions[i];
+        if let Some(f) = locate(p, b) {
+            corners.push(contact(a, Boundary::Vertex(i), b, f, Point::Explicit(p)));
         }
     }
     for j in 0..3 {
-        let p = Point::Explicit(b.positions[j]);
-        match locate(&p, a) {
+        let p = b.positions[j];
+        match locate(p, a) {
             // Found from `a`'s side already.
             Some(Feature::Vertex(_)) | None => {}
-            Some(f) => corners.push(swapped(contact(b, Boundary::Vertex(j), a, f, p))),
+            Some(f) => corners.push(swapped(contact(
+                b,
+                Boundary::Vertex(j),
+                a,
+                f,
+                Point::Explicit(p),
+            ))),
         }
     }
     for i in 0..3 {

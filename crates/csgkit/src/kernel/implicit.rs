@@ -159,6 +159,27 @@ fn all_finite(pts: &[Point3]) -> bool {
 }
 
 impl Point {
+    /// The point's coordinate on axis `k` where its definition fixes it without arithmetic:
+    /// an input vertex's own; for an [`Lpi`], the coordinate its three plane points share
+    /// (the plane is the axis plane there) or its line's two ends share (the line lies in
+    /// it); for a [`Tpi`], the coordinate the three points of one of its planes share.
+    ///
+    /// Exact and cheap: axis-aligned faces and edges (boxes, Menger sponges, extrusions, the
+    /// tops of two cubes turned about z) make most exact zeros of the comparisons between
+    /// intersection points ties of such coordinates, which the arithmetic stages would
+    /// otherwise prove at thousands of instructions each.
+    pub fn known_coordinate(&self, k: usize) -> Option<f64> {
+        let shared = |points: &[Point3]| {
+            let c = points[0][k];
+            points.iter().all(|p| p[k] == c).then_some(c)
+        };
+        match self {
+            Point::Explicit(p) => Some(p[k]),
+            Point::Lpi(l) => shared(&l.def[2..]).or_else(|| shared(&l.def[..2])),
+            Point::Tpi(t) => t.planes.iter().find_map(|plane| shared(plane)),
+        }
+    }
+
     /// The line through `p, q` meets the plane through `r, s, t` ([`Lpi`]).
     ///
     /// `None` when the line is parallel to the plane or the triangle `r, s, t` is degenerate

@@ -95,9 +95,24 @@ pub fn orient2d_projected_or_collinear(
         u,
         v,
     };
-    let proven =
-        || collinear_by_construction(a, b, c) || on_a_projected_line(a, b, c, drop) || collinear();
+    let proven = || {
+        on_an_axis_line(a, b, c, [u, v])
+            || collinear_by_construction(a, b, c)
+            || on_a_projected_line(a, b, c, drop)
+            || collinear()
+    };
     decide_or_zero(&det, proven).times(w)
+}
+
+/// True when the three points have one [`Point::known_coordinate`] on one of the projection's
+/// axes `axes`: in the projection they lie on that axis line.
+fn on_an_axis_line(a: &Point, b: &Point, c: &Point, axes: [usize; 2]) -> bool {
+    axes.into_iter().any(|k| {
+        let Some(x) = a.known_coordinate(k) else {
+            return false;
+        };
+        b.known_coordinate(k) == Some(x) && c.known_coordinate(k) == Some(x)
+    })
 }
 
 /// True when two of the points are explicit and the third is an [`Lpi`](super::Lpi) whose
@@ -167,9 +182,9 @@ fn collinear_by_construction(a: &Point, b: &Point, c: &Point) -> bool {
 /// Order of `a` and `b` by their coordinate on `axis` (`Less` when `a`'s is smaller).
 pub fn compare_along(a: &Point, b: &Point, axis: Axis) -> Ordering {
     let i = axis.index();
-    if let (Point::Explicit(pa), Point::Explicit(pb)) = (a, b) {
+    if let (Some(x), Some(y)) = (a.known_coordinate(i), b.known_coordinate(i)) {
         // `partial_cmp` treats -0 and +0 as equal; NaN is excluded by precondition.
-        return pa[i].partial_cmp(&pb[i]).unwrap_or(Ordering::Equal);
+        return x.partial_cmp(&y).unwrap_or(Ordering::Equal);
     }
     let w = a.w_sign().times(b.w_sign());
     decide(&AxisDiff { a, b, axis: i }).times(w).to_ordering()

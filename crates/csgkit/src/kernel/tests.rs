@@ -388,6 +388,60 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(config(300, 0x6b65_726e_656c_0008))]
+
+    /// Intersection points on axis planes and on axis-parallel lines, as boxes and extrusions
+    /// make them, on a coarse grid so that many share coordinates: every coordinate
+    /// [`Point::known_coordinate`] gives is the exact one, and the predicates that use them
+    /// (ties of [`compare_along`], collinear triples of [`orient2d_projected`]) match the
+    /// oracle.
+    #[test]
+    fn axis_aligned_implicit_points_match_oracle(
+        grid in prop::collection::vec(-2i32..=2, 120),
+        axes in prop::collection::vec(0usize..3, 10),
+    ) {
+        let mut values = grid.iter().map(|&v| f64::from(v) * 0.5).cycle();
+        let mut point = || [(); 3].map(|()| values.next().unwrap_or(0.0));
+        let on_axis_plane = |mut t: [Point3; 3], k: usize| {
+            let c = t[0][k];
+            t.iter_mut().for_each(|p| p[k] = c);
+            t
+        };
+        let mut pts = vec![Point::Explicit(point())];
+        for (i, &k) in axes.iter().enumerate() {
+            let (p, mut q) = (point(), point());
+            let t = [point(), point(), point()];
+            let made = match i % 3 {
+                // A line against an axis plane.
+                0 => {
+                    let [r, s, u] = on_axis_plane(t, k);
+                    Point::lpi(p, q, r, s, u)
+                }
+                // An axis-parallel line (its ends share coordinate k) against a plane.
+                1 => {
+                    q[k] = p[k];
+                    Point::lpi(p, q, t[0], t[1], t[2])
+                }
+                // An axis plane and two other planes.
+                _ => Point::tpi([on_axis_plane(t, k), [p, q, t[0]], [q, t[1], p]]),
+            };
+            pts.extend(made);
+        }
+        for p in &pts {
+            let exact = oracle_point(p);
+            for (k, exact) in exact.iter().enumerate() {
+                if let Some(x) = p.known_coordinate(k) {
+                    prop_assert_eq!(&q(x), exact, "{:?} on axis {}", p, k);
+                }
+            }
+        }
+        if pts.len() >= 4 {
+            check_all(&pts);
+        }
+    }
+}
+
 /// Explicit orient2d/orient3d against the oracle at every magnitude, including the ranges
 /// where `robust` is bypassed.
 #[test]

@@ -11,7 +11,7 @@
 //! the interiors).
 //! Out: a [`BRep`] — every boundary vertex with its octant code and six face degrees, and
 //! every maximal planar face with one CCW outer loop and its CW hole loops (CCW seen from
-//! outside) — which [`BRep::to_mesh`] turns into a closed, T-junction-free [`Mesh`](crate::Mesh).
+//! outside) — which [`BRep::to_mesh`] turns into a closed, T-junction-free [`Mesh`].
 //!
 //! # Algorithm
 //! 1. Rank the coordinates of each axis (`grid`); from here to triangulation only ranks are
@@ -33,7 +33,7 @@
 //! - [`parse_boxes`] reads the box text format, [`read_vox`] MagicaVoxel files.
 //!
 //! # Mesh output
-//! [`Mesh`](crate::Mesh) holds simple polygons only, so [`BRep::to_mesh`] writes a face without
+//! [`Mesh`] holds simple polygons only, so [`BRep::to_mesh`] writes a face without
 //! holes as one polygon and triangulates a face with holes (or a weakly simple outer loop);
 //! [`BRep`] itself is the polygon-with-holes representation, for writers that can hold holes.
 //!
