@@ -98,15 +98,19 @@ pub(crate) fn intersect_pairs(
     });
     counter.finish()?;
     let intersecting_pairs = found.len();
-    let marks: Vec<(u32, Mark)> = found.into_iter().flatten().collect();
     // Grouped by triangle, and within a triangle in pair order, which is deterministic. The
-    // small `(triangle, position)` keys are sorted and each mark (a few hundred bytes) moves
-    // once, where sorting the marks themselves would move each of them log n times.
-    let mut order: Vec<(u32, u32)> = (marks.iter().enumerate())
-        .map(|(i, m)| (m.0, i as u32))
+    // small `(triangle, pair, position)` keys are sorted and each mark (a few hundred bytes)
+    // moves once, from its pair's list to its place, where sorting the marks themselves
+    // would move each of them log n times (and flattening the lists first, once more).
+    let mut order: Vec<(u32, u32, u32)> = (found.iter().enumerate())
+        .flat_map(|(pair, marks)| {
+            (marks.iter().enumerate()).map(move |(i, m)| (m.0, pair as u32, i as u32))
+        })
         .collect();
     order.par_sort_unstable();
-    let marks = order.iter().map(|&(_, i)| marks[i as usize]).collect();
+    let marks = (order.iter())
+        .map(|&(_, pair, i)| found[pair as usize][i as usize])
+        .collect();
     Ok(Contacts {
         intersecting_pairs,
         marks,
