@@ -405,20 +405,20 @@ fn first_axis(p: &Point, q: &Point) -> Option<Axis> {
 }
 
 /// Locates `x` on the chord `c` of triangle `t` (ends sorted along `axis`): the feature of
-/// `t` and, when `x` is an end of `c`, that end's point.
+/// `t` and, when `x` is an end of `c`, which end.
 fn on_chord(
     x: &Point,
     c: &[End; 2],
     t_chord_inside: Feature,
     axis: Axis,
-) -> Option<(Feature, Option<Point>)> {
+) -> Option<(Feature, Option<usize>)> {
     let lo = compare_along(x, &c[0].point, axis);
     if lo == Ordering::Equal {
-        return Some((c[0].own.feature(), Some(c[0].point)));
+        return Some((c[0].own.feature(), Some(0)));
     }
     let hi = compare_along(x, &c[1].point, axis);
     match (lo, hi) {
-        (_, Ordering::Equal) => Some((c[1].own.feature(), Some(c[1].point))),
+        (_, Ordering::Equal) => Some((c[1].own.feature(), Some(1))),
         (Ordering::Greater, Ordering::Less) => Some((t_chord_inside, None)),
         _ => None,
     }
@@ -434,12 +434,11 @@ fn chord_inside(c: &[End; 2]) -> Feature {
     }
 }
 
-/// Sorts a chord's ends along `axis`.
-fn sorted(c: [End; 2], axis: Axis) -> [End; 2] {
+/// Sorts a chord's ends along `axis`, in place (an end holds a kernel point of a few hundred
+/// bytes).
+fn sort_along(c: &mut [End; 2], axis: Axis) {
     if compare_along(&c[0].point, &c[1].point, axis) == Ordering::Greater {
-        [c[1], c[0]]
-    } else {
-        c
+        c.swap(0, 1);
     }
 }
 
@@ -453,21 +452,24 @@ fn transversal(a: &Triangle, b: &Triangle, sa: &[Sign; 3], sb: &[Sign; 3]) -> In
         .or_else(|| first_axis(&ca[0].point, &cb[0].point));
     let Some(axis) = axis else {
         // All chord ends are one point.
-        let (end, other) = (ca[0], cb[0]);
-        return Intersection::TouchingPoint(merged(a, end, b, other.own.feature(), other.point));
+        let (end, other) = (&ca[0], &cb[0]);
+        let feature = other.own.feature();
+        return Intersection::TouchingPoint(merged(a, end, b, feature, Some(&other.point)));
     };
-    let (ca, cb) = (sorted(ca, axis), sorted(cb, axis));
+    let (mut ca, mut cb) = (ca, cb);
+    sort_along(&mut ca, axis);
+    sort_along(&mut cb, axis);
     let inside = (chord_inside(&ca), chord_inside(&cb));
     // The overlap of the chords: the later start and the earlier end, from `a` when tied.
     let lo_from_a = compare_along(&ca[0].point, &cb[0].point, axis) != Ordering::Less;
     let hi_from_a = compare_along(&ca[1].point, &cb[1].point, axis) != Ordering::Greater;
     let end_contact = |from_a: bool, k: usize| {
         if from_a {
-            let (f, p) = on_chord(&ca[k].point, &cb, inside.1, axis)?;
-            Some(merged(a, ca[k], b, f, p.unwrap_or(ca[k].point)))
+            let (f, end) = on_chord(&ca[k].point, &cb, inside.1, axis)?;
+            Some(merged(a, &ca[k], b, f, end.map(|e| &cb[e].point)))
         } else {
-            let (f, p) = on_chord(&cb[k].point, &ca, inside.0, axis)?;
-            Some(swapped(merged(b, cb[k], a, f, p.unwrap_or(cb[k].point))))
+            let (f, end) = on_chord(&cb[k].point, &ca, inside.0, axis)?;
+            Some(swapped(merged(b, &cb[k], a, f, end.map(|e| &ca[e].point))))
         }
     };
     let (Some(lo), Some(hi)) = (end_contact(lo_from_a, 0), end_contact(hi_from_a, 1)) else {
@@ -482,12 +484,17 @@ fn transversal(a: &Triangle, b: &Triangle, sa: &[Sign; 3], sb: &[Sign; 3]) -> In
 }
 
 /// The contact for chord end `end` of `x` lying on `y` at `other`, where `y`'s own point
-/// there is `theirs`; keeps an input vertex when either point is one.
-fn merged(x: &Triangle, end: End, y: &Triangle, other: Feature, theirs: Point) -> Contact {
-    let point = if end.point.is_explicit() {
-        end.point
-    } else {
-        theirs
+/// there, if it has one, is `theirs`; keeps an input vertex when either point is one.
+fn merged(
+    x: &Triangle,
+    end: &End,
+    y: &Triangle,
+    other: Feature,
+    theirs: Option<&Point>,
+) -> Contact {
+    let point = match theirs {
+        Some(p) if !end.point.is_explicit() => *p,
+        _ => end.point,
     };
     contact(x, end.own, y, other, point)
 }

@@ -124,9 +124,10 @@ fn marks_of(a: &Triangle, b: &Triangle, intersection: Intersection) -> Vec<(u32,
     let both = |mark: Mark| [(s, mark), (t, mark)];
     match intersection {
         Intersection::Disjoint => Vec::new(),
-        Intersection::TouchingPoint(c) => both(point(&c)).to_vec(),
+        Intersection::TouchingPoint(c) => Vec::from(both(point(&c))),
         Intersection::TouchingSegment([c, d]) | Intersection::Crossing([c, d]) => {
-            let mut marks = both(point(&c)).to_vec();
+            let mut marks = Vec::with_capacity(6);
+            marks.extend(both(point(&c)));
             marks.extend(both(point(&d)));
             // A segment along an edge of the other triangle is carried by that edge, so a
             // point where another segment crosses it gets the key the intersect stage gives
