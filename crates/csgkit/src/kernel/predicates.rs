@@ -84,24 +84,44 @@ pub fn orient2d_projected_or_collinear(
     drop: Axis,
     collinear: impl FnOnce() -> bool,
 ) -> Sign {
-    let k = drop.index();
-    let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-    if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
-        return orient2d(drop.project(*a), drop.project(*b), drop.project(*c));
+    match projected(a, b, c, drop) {
+        Projected::Explicit(sign) => sign,
+        Projected::Implicit(det, w) => {
+            let proven = || {
+                on_an_axis_line(a, b, c, [det.u, det.v])
+                    || collinear_by_construction(a, b, c)
+                    || on_a_projected_line(a, b, c, drop)
+                    || collinear()
+            };
+            decide_or_zero(&det, proven).times(w)
+        }
     }
-    let w = a.w_sign().times(b.w_sign()).times(c.w_sign());
+}
+
+/// [`orient2d_projected`] of explicit points, answered; of others, the determinant to decide
+/// and the sign its answer is multiplied by (the product of the points' `W` signs).
+enum Projected<'p> {
+    Explicit(Sign),
+    Implicit(Det3<'p>, Sign),
+}
+
+/// The shared first step of [`orient2d_projected_or_collinear`] and
+/// [`orient2d_projected_if_clear`].
+fn projected<'p>(a: &'p Point, b: &'p Point, c: &'p Point, drop: Axis) -> Projected<'p> {
+    if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
+        return Projected::Explicit(orient2d(
+            drop.project(*a),
+            drop.project(*b),
+            drop.project(*c),
+        ));
+    }
+    let k = drop.index();
     let det = Det3 {
         pts: [a, b, c],
-        u,
-        v,
+        u: (k + 1) % 3,
+        v: (k + 2) % 3,
     };
-    let proven = || {
-        on_an_axis_line(a, b, c, [u, v])
-            || collinear_by_construction(a, b, c)
-            || on_a_projected_line(a, b, c, drop)
-            || collinear()
-    };
-    decide_or_zero(&det, proven).times(w)
+    Projected::Implicit(det, a.w_sign().times(b.w_sign()).times(c.w_sign()))
 }
 
 /// True when the three points have one [`Point::known_coordinate`] on one of the projection's
@@ -137,22 +157,10 @@ fn on_a_projected_line(a: &Point, b: &Point, c: &Point, drop: Axis) -> bool {
 /// choices a caller may decline when the answer is not at hand (an optional flip), so that
 /// nearly degenerate configurations cost nothing there.
 pub fn orient2d_projected_if_clear(a: &Point, b: &Point, c: &Point, drop: Axis) -> Option<Sign> {
-    let k = drop.index();
-    let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-    if let (Point::Explicit(a), Point::Explicit(b), Point::Explicit(c)) = (a, b, c) {
-        return Some(orient2d(
-            drop.project(*a),
-            drop.project(*b),
-            drop.project(*c),
-        ));
+    match projected(a, b, c, drop) {
+        Projected::Explicit(sign) => Some(sign),
+        Projected::Implicit(det, w) => filter(&det).map(|s| s.times(w)),
     }
-    let w = a.w_sign().times(b.w_sign()).times(c.w_sign());
-    let det = Det3 {
-        pts: [a, b, c],
-        u,
-        v,
-    };
-    filter(&det).map(|s| s.times(w))
 }
 
 /// True when the three points lie on one line by definition: some point is an
