@@ -9,23 +9,27 @@
 //! Outside that range these functions answer through the implicit-point cascade (interval
 //! filter, expansions, big integers), which is exact for every finite input.
 //!
-//! # Small grids
-//! Coplanar and collinear points are the rule in CAD parts, box unions and touching cubes,
-//! and there the answer is zero: `robust`'s filter cannot decide a zero, so every such call
-//! runs its adaptive stages (expansions, several times the cost of the filter). When every
-//! coordinate is a multiple of `2^e` below `2^(e + SPAN)` for a small bit span (integers,
-//! quarter grids, the unit cube), the plain f64 formula has no rounding at all and its sign
-//! is the answer: [`small_grid_span`] finds the span, stopping at the first coordinate that
-//! rules it out (one for points in general position, whose significands use all 53 bits).
+//! # Order of the tests
+//! `robust`'s first stage (its floating-point filter, copied here) runs first: it decides
+//! almost every answer in general position, and on a small grid (below) every nonzero answer
+//! but those of coordinates spanning nearly the whole grid (the exact determinant is at least
+//! one grid unit squared or cubed, above the filter's error bound until the coordinates
+//! approach the span's limit). What it leaves is almost always a zero, which the following
+//! tests find without `robust`'s adaptive stages (expansions, some thirty times the filter's
+//! cost); every test is exact, so the order changes only the cost.
 //!
 //! # Zeros by comparison
-//! Off a small grid (a part rotated by a small angle, a mesh in millimetres with decimal
-//! coordinates), many zeros still need no arithmetic: points that share one coordinate lie on
-//! one axis plane (the faces two operands share at `z = 0.5`, the flat top of a cut), and a
-//! point given twice (a vertex tested against a triangle it belongs to) makes any set
-//! coplanar and collinear. Both are answered by comparisons where `robust`'s filter (run
-//! first, so general positions pay nothing more) cannot decide, before its adaptive stages,
-//! which find such a zero at some thirty times the filter's cost.
+//! Coplanar and collinear points are the rule in CAD parts, box unions, touching cubes and
+//! parts rotated by a small angle, and many of these zeros need no arithmetic: points that
+//! share one coordinate lie on one axis plane (the faces two operands share at `z = 0.5`, the
+//! flat top of a cut), and a point given twice (a vertex tested against a triangle it belongs
+//! to) makes any set coplanar and collinear.
+//!
+//! # Small grids
+//! When every coordinate is a multiple of `2^e` below `2^(e + SPAN)` for a small bit span
+//! (integers, quarter grids, the unit cube), the plain f64 formula has no rounding at all and
+//! its sign is the answer: [`small_grid_span`] finds the span, stopping at the first
+//! coordinate that rules it out. This also answers grid points outside `robust`'s safe range.
 
 use robust::{Coord, Coord3D};
 
@@ -52,19 +56,19 @@ fn in_robust_range(x: f64) -> bool {
 /// triangle), [`Sign::Negative`] when to the right, [`Sign::Zero`] when collinear. Exact for
 /// all finite inputs.
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
-    if small_grid_span(a.iter().chain(&b).chain(&c), ORIENT2D_SPAN) {
-        // Differences take SPAN + 1 bits, products twice that, and their difference one more:
-        // 2 (SPAN + 1) + 1 <= 53, so every operation is exact.
-        let (acx, acy) = (a[0] - c[0], a[1] - c[1]);
-        let (bcx, bcy) = (b[0] - c[0], b[1] - c[1]);
-        return Sign::of(acx * bcy - acy * bcx);
-    }
     let in_range = a.iter().chain(&b).chain(&c).all(|&x| in_robust_range(x));
     if let Some(sign) = in_range.then(|| orient2d_filter(a, b, c)).flatten() {
         return sign;
     }
     if zero_by_comparison(&[a, b, c]) {
         return Sign::Zero;
+    }
+    if small_grid_span(a.iter().chain(&b).chain(&c), ORIENT2D_SPAN) {
+        // Differences take SPAN + 1 bits, products twice that, and their difference one more:
+        // 2 (SPAN + 1) + 1 <= 53, so every operation is exact.
+        let (acx, acy) = (a[0] - c[0], a[1] - c[1]);
+        let (bcx, bcy) = (b[0] - c[0], b[1] - c[1]);
+        return Sign::of(acx * bcy - acy * bcx);
     }
     if in_range {
         let v = robust::orient2d(
@@ -84,7 +88,15 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
 /// [`Sign::Negative`] above, [`Sign::Zero`] when coplanar. Equals the sign of
 /// `det[a - d; b - d; c - d]`. Exact for all finite inputs.
 pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
-    if small_grid_span(a.iter().chain(&b).chain(&c).chain(&d), ORIENT3D_SPAN) {
+    let points = [a, b, c, d];
+    let in_range = points.as_flattened().iter().all(|&x| in_robust_range(x));
+    if let Some(sign) = in_range.then(|| orient3d_filter(a, b, c, d)).flatten() {
+        return sign;
+    }
+    if zero_by_comparison(&points) {
+        return Sign::Zero;
+    }
+    if small_grid_span(points.as_flattened().iter(), ORIENT3D_SPAN) {
         // Differences take SPAN + 1 bits, the 2×2 minors 2 (SPAN + 1) + 1, the three terms
         // one more bit each after the products and the sum: 3 (SPAN + 1) + 3 <= 53, so every
         // operation is exact.
@@ -94,14 +106,6 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
             + bdx * (cdy * adz - cdz * ady)
             + cdx * (ady * bdz - adz * bdy);
         return Sign::of(det);
-    }
-    let points = [a, b, c, d];
-    let in_range = points.as_flattened().iter().all(|&x| in_robust_range(x));
-    if let Some(sign) = in_range.then(|| orient3d_filter(a, b, c, d)).flatten() {
-        return sign;
-    }
-    if zero_by_comparison(&points) {
-        return Sign::Zero;
     }
     if in_range {
         let cv = |p: [f64; 3]| Coord3D {
