@@ -86,16 +86,47 @@ mod tests;
 const DELAUNAY_BEFORE_SEGMENTS: usize = 8;
 
 /// The Delaunay phase's choice for the quadrilateral `[a, b, c, d]` (see
-/// [`Cdt::flip_while`]): flip `b c` to `a d` when `d` is inside the circle of `a b c` and no
-/// triangle of the pair is flat.
+/// [`Cdt::flip_while`]): flip `b c` to `a d` when `d` is clearly inside the circle of `a b c`
+/// and no triangle of the pair is flat.
 fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
     if is_flat(pa, pb, pc) || is_flat(pb, pd, pc) || is_flat(pa, pb, pd) || is_flat(pa, pd, pc) {
-        // Before the in-circle test, whose adaptive stages are slowest on such shapes.
         return false;
     }
     let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
-    let inside = robust::incircle(to_coord(pa), to_coord(pb), to_coord(pc), to_coord(pd));
-    inside * turn > 0.0
+    incircle_if_clear(pa, pb, pc, pd).is_some_and(|inside| inside * turn > 0.0)
+}
+
+/// Shewchuk's error bound for the f64 in-circle determinant (`iccerrboundA` of his
+/// `predicates.c`), with `ε = 2^-53`.
+const INCIRCLE_BOUND: f64 = (10.0 + 96.0 * EPS) * EPS;
+const EPS: f64 = f64::EPSILON / 2.0;
+
+/// The in-circle determinant of `d` against `a b c` (positive inside when `a b c` turns
+/// counterclockwise) where its f64 value's sign is certain, `None` where only exact arithmetic
+/// could tell (`d` on or within rounding of the circle) or a value overflows or underflows.
+///
+/// Why not `robust::incircle`: the Delaunay choice needs no exact answer (the points are
+/// approximations, and either diagonal of four points on a circle is Delaunay), and the
+/// cocircular quadrilaterals of grid parts (the squares of a Menger sponge) sent every test
+/// to its adaptive stages, which clear some 9 KB of buffers per call. Flipping only on
+/// certain signs still ends: each flip is a Lawson flip by the exact answer for these points.
+fn incircle_if_clear(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Option<f64> {
+    let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
+    let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
+    let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
+    let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+    let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+    let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+    let alift = adx * adx + ady * ady;
+    let blift = bdx * bdx + bdy * bdy;
+    let clift = cdx * cdx + cdy * cdy;
+    let det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * alift
+        + (cdxady.abs() + adxcdy.abs()) * blift
+        + (adxbdy.abs() + bdxady.abs()) * clift;
+    // A bound below the normal range may not cover products that underflowed.
+    let bound = INCIRCLE_BOUND * permanent;
+    (bound.is_normal() && (det > bound || -det > bound)).then_some(det)
 }
 
 /// How [`Cdt::flip_while`] decides that a quadrilateral is strictly convex, so that its
@@ -497,9 +528,9 @@ impl<'a> Cdt<'a> {
     /// made on f64 approximations of the points, and a flip is done only when both new
     /// triangles are positively oriented by the exact predicate, so every state is a valid
     /// triangulation of the same region with the same constrained edges.
-    /// - **Delaunay**, by the in-circle test, among triangles that are not flat (lower than
-    ///   [`FLAT_HEIGHT`] relative to their coordinates). A flip budget stops the (rare)
-    ///   cycles that inexact answers could cause.
+    /// - **Delaunay**, by the in-circle test where its f64 sign is certain, among triangles
+    ///   that are not flat (lower than [`FLAT_HEIGHT`] relative to their coordinates). A flip
+    ///   budget stops the (rare) cycles that the convexity test's refusals could cause.
     /// - **Unflattening**: where a triangle is flat, the in-circle test reads rounding noise.
     ///   There a flip is done when it leaves fewer flat triangles in the pair, so the count
     ///   of flat triangles only falls and this phase ends. Flat triangles are what rounding
