@@ -530,7 +530,7 @@ impl<'a> Cdt<'a> {
     /// triangulation of the same region with the same constrained edges.
     /// - **Delaunay**, by the in-circle test where its f64 sign is certain, among triangles
     ///   that are not flat (lower than [`FLAT_HEIGHT`] relative to their coordinates). A flip
-    ///   budget stops the (rare) cycles that the convexity test's refusals could cause.
+    ///   budget stops the (rare) cycles that inexact answers could cause.
     /// - **Unflattening**: where a triangle is flat, the in-circle test reads rounding noise.
     ///   There a flip is done when it leaves fewer flat triangles in the pair, so the count
     ///   of flat triangles only falls and this phase ends. Flat triangles are what rounding
