@@ -75,7 +75,7 @@
 
 use crate::kernel::{
     Axis, Point, Point3, Sign, orient2d_projected, orient2d_projected_if_clear,
-    orient2d_projected_or_collinear, orient3d, orient3d_plane,
+    orient2d_projected_or_collinear, orient2d_value_if_clear, orient3d, orient3d_plane,
 };
 
 #[cfg(test)]
@@ -345,9 +345,19 @@ const FLAT_HEIGHT: f64 = 16.0 * f64::EPSILON;
 /// clears the limit on that bound twice over is not flat without the square roots of the
 /// side lengths: most triangles, as the Delaunay phase asks this four times per flip test.
 /// The factor two absorbs every rounding, so the answer is the one the height gives.
+///
+/// Where the orientation filter cannot prove a sign, the doubled area is at most
+/// `θ · 2 |pr| |qr| <= θ · 2 longest²` (θ ≈ 1.5 ε, the filter's bound), so the height is at most
+/// `2 θ longest <= 4 √2 θ magnitude ≈ 8.5 ε magnitude`, below the limit: flat, with no exact
+/// area (collinear points, common on grid parts, sent `robust`'s orient2d to its adaptive
+/// stages, only to be called flat).
 fn is_flat(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> bool {
     let limit = FLAT_HEIGHT * magnitude(&[p, q, r]);
-    let twice_area = robust::orient2d(to_coord(p), to_coord(q), to_coord(r)).abs();
+    let Some(det) = orient2d_value_if_clear(p, q, r) else {
+        // Three equal corners at the origin have no limit to be below.
+        return limit > 0.0;
+    };
+    let twice_area = det.abs();
     let taxicab = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).abs() + (u[1] - v[1]).abs();
     let longest_bound = taxicab(p, q).max(taxicab(q, r)).max(taxicab(r, p));
     if twice_area > 2.0 * limit * longest_bound {

@@ -151,13 +151,24 @@ fn small_grid_span<'a>(coords: impl Iterator<Item = &'a f64>, span: i32) -> bool
 /// `robust` then repeats it, a few operations, before its adaptive stages.
 #[inline]
 fn orient2d_filter(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<Sign> {
-    const THETA: f64 = 3.330_669_062_177_372_2e-16;
+    orient2d_value_if_clear(a, b, c).map(Sign::of)
+}
+
+/// The f64 determinant of [`orient2d`] (twice the signed area of `a b c`) where the filter
+/// proves its sign, the value `robust::orient2d` returns there; `None` where it cannot, which
+/// bounds the area: at most [`ORIENT2D_THETA`] `· 2 |a - c| |b - c|`.
+#[inline]
+pub(crate) fn orient2d_value_if_clear(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Option<f64> {
     let left = (a[0] - c[0]) * (b[1] - c[1]);
     let right = (a[1] - c[1]) * (b[0] - c[0]);
     let det = left - right;
-    let bound = THETA * (left + right).abs();
-    (det >= bound || -det >= bound).then(|| Sign::of(det))
+    let bound = ORIENT2D_THETA * (left + right).abs();
+    (det >= bound || -det >= bound).then_some(det)
 }
+
+/// The error bound factor of the f64 orient2d determinant (Ozaki et al.'s, as `robust` has it):
+/// `|exact - f64| <= THETA |left + right|` when the two products have one sign.
+const ORIENT2D_THETA: f64 = 3.330_669_062_177_372_2e-16;
 
 /// `robust::orient3d`'s first stage on its own (Shewchuk's `o3derrboundA`), as
 /// [`orient2d_filter`] is `robust::orient2d`'s.

@@ -532,3 +532,37 @@ fn in_circle_answers_only_where_certain() {
         None
     );
 }
+
+#[test]
+fn flatness_without_exact_areas_is_the_height_test() {
+    // The reference: the height over the longest side from `robust`'s exact-sign area.
+    let by_height = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
+        let limit = FLAT_HEIGHT * magnitude(&[p, q, r]);
+        let twice_area = robust::orient2d(to_coord(p), to_coord(q), to_coord(r)).abs();
+        height(twice_area, p, q, r) < limit
+    };
+    let mut random = crate::kernel::tests::xorshift(0x5eed_f1a7);
+    let mut unit = || (random() >> 11) as f64 / (1u64 << 53) as f64;
+    let (mut flat, mut total) = (0, 0);
+    for _ in 0..20_000 {
+        let p = [unit() * 8.0 - 4.0, unit() * 8.0 - 4.0];
+        let q = [unit() * 8.0 - 4.0, unit() * 8.0 - 4.0];
+        // `r` on the line p q, then moved by a few ulps: flat, nearly flat and clear cases.
+        let t = unit() * 3.0 - 1.0;
+        let ulps = (unit() * 1024.0) as i32 - 512;
+        let mut r = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
+        for _ in 0..ulps.unsigned_abs() {
+            r[1] = if ulps > 0 {
+                r[1].next_up()
+            } else {
+                r[1].next_down()
+            };
+        }
+        flat += usize::from(is_flat(p, q, r));
+        total += 1;
+        assert_eq!(is_flat(p, q, r), by_height(p, q, r), "{p:?} {q:?} {r:?}");
+        assert_eq!(is_flat(p, q, q), by_height(p, q, q));
+    }
+    // Both kinds were met.
+    assert!(flat > 1000 && flat < total - 1000, "{flat} of {total} flat");
+}
