@@ -92,8 +92,14 @@ fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
     if is_flat(pa, pb, pc) || is_flat(pb, pd, pc) || is_flat(pa, pb, pd) || is_flat(pa, pd, pc) {
         return false;
     }
-    let turn = robust::orient2d(to_coord(pa), to_coord(pb), to_coord(pc));
-    incircle_if_clear(pa, pb, pc, pd).is_some_and(|inside| inside * turn > 0.0)
+    // Not flat, so the filter proves the turn of `a b c`.
+    let (Some(turn), Some(inside)) = (
+        orient2d_value_if_clear(pa, pb, pc),
+        incircle_if_clear(pa, pb, pc, pd),
+    ) else {
+        return false;
+    };
+    inside * turn > 0.0
 }
 
 /// Shewchuk's error bound for the f64 in-circle determinant (`iccerrboundA` of his
@@ -381,10 +387,6 @@ fn height(twice_area: f64, p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
 /// The largest coordinate magnitude of `points`.
 fn magnitude(points: &[[f64; 2]]) -> f64 {
     points.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()))
-}
-
-fn to_coord(p: [f64; 2]) -> robust::Coord<f64> {
-    robust::Coord { x: p[0], y: p[1] }
 }
 
 fn sub(a: Point3, b: Point3) -> Point3 {

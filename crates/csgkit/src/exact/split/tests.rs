@@ -538,7 +538,8 @@ fn flatness_without_exact_areas_is_the_height_test() {
     // The reference: the height over the longest side from `robust`'s exact-sign area.
     let by_height = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
         let limit = FLAT_HEIGHT * magnitude(&[p, q, r]);
-        let twice_area = robust::orient2d(to_coord(p), to_coord(q), to_coord(r)).abs();
+        let coord = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+        let twice_area = robust::orient2d(coord(p), coord(q), coord(r)).abs();
         height(twice_area, p, q, r) < limit
     };
     let mut random = crate::kernel::tests::xorshift(0x5eed_f1a7);
