@@ -83,8 +83,9 @@ impl Triangle {
         if !positions.as_flattened().iter().all(|x| x.is_finite()) {
             return None;
         }
-        let [p, q, r] = positions.map(Point::Explicit);
-        // An f64 estimate of the normal picks the preferred axis; the exact test decides.
+        // An f64 estimate of the normal picks the preferred axis; the exact test decides (on
+        // the projected coordinates: what `orient2d_projected` does for input vertices,
+        // without building three kernel points per triangle).
         let (u, v) = (
             sub(positions[1], positions[0]),
             sub(positions[2], positions[0]),
@@ -98,7 +99,8 @@ impl Triangle {
         [first, Axis::X, Axis::Y, Axis::Z]
             .into_iter()
             .find_map(|drop| {
-                let turn = orient2d_projected(&p, &q, &r, drop);
+                let [p, q, r] = positions.map(|x| drop.project(x));
+                let turn = orient2d(p, q, r);
                 (turn != Sign::Zero).then_some(Triangle {
                     id,
                     vertices,
