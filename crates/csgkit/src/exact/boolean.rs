@@ -66,7 +66,8 @@ pub struct BooleanStats {
     pub stage_seconds: Vec<(Stage, f64)>,
     /// Triangles of all operands after ingest.
     pub input_triangles: usize,
-    /// Triangle pairs of different operands whose boxes overlap.
+    /// Triangle pairs of different operands whose boxes overlap and neither of whose planes
+    /// has the other triangle strictly on one side.
     pub candidate_pairs: usize,
     /// Candidate pairs that really touch or cross.
     pub intersecting_pairs: usize,

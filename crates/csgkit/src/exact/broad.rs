@@ -1,5 +1,9 @@
 //! The **broad** stage (`design/exact.md`, stage 2): the pairs of triangles of different
-//! operands whose bounding boxes overlap.
+//! operands whose bounding boxes overlap, less those that the plane of one triangle has
+//! strictly on one side (exact, the first test of the intersect stage, answered by the
+//! orientation filter almost always): the sliver triangles of CAD exports have boxes that
+//! overlap thousands of triangles they cannot touch, and such pairs are not worth a place in
+//! the list, its sort and the intersect stage's loop.
 //!
 //! Only triangles inside the region where operands overlap are indexed. Two operands: one
 //! [`Bvh`] over the smaller operand's triangles in the overlap of both operand boxes, queried
@@ -12,14 +16,15 @@ use crate::par::*;
 use crate::index::{Aabb, Bvh};
 
 use super::ingest::Input;
+use super::intersect::planes_separate;
 
 /// The box of triangle `t`.
 pub(crate) fn triangle_box(input: &Input, t: usize) -> Aabb {
     Aabb::from_points(input.triangles[t].positions().iter())
 }
 
-/// Every pair `(s, t)` with `s < t` of triangles of different operands whose boxes overlap,
-/// sorted.
+/// Every pair `(s, t)` with `s < t` of triangles of different operands whose boxes overlap
+/// and whose planes do not separate them, sorted.
 pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
     let mut pairs = if input.operand_count() == 2 {
         let region = input.operand_boxes[0].intersection(&input.operand_boxes[1]);
@@ -41,7 +46,9 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
                 if query.overlaps(&region) {
                     tree.visit_overlapping(&query, |s| {
                         let s = s + offset as u32;
-                        hits.push((s.min(t as u32), s.max(t as u32)));
+                        if !planes_separate(&input.triangles[s as usize], &input.triangles[t]) {
+                            hits.push((s.min(t as u32), s.max(t as u32)));
+                        }
                     });
                 }
                 hits
@@ -59,7 +66,10 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
             .collect();
         let tree = Bvh::build_in(near_other.len(), |t| near_other[t], &operand_tree.bounds());
         let mut pairs: Vec<(u32, u32)> = (tree.self_overlapping_pairs().into_par_iter())
-            .filter(|&(s, t)| input.operand[s as usize] != input.operand[t as usize])
+            .filter(|&(s, t)| {
+                let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
+                input.operand[s as usize] != input.operand[t as usize] && !planes_separate(a, b)
+            })
             .collect();
         pairs
             .par_iter_mut()
@@ -68,4 +78,56 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
     };
     pairs.par_sort_unstable();
     pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::ingest::ingest;
+    use crate::exact::intersect::{Intersection, intersect_triangles};
+    use crate::primitives::{cuboid, icosphere};
+
+    #[test]
+    fn pairs_are_the_overlapping_boxes_that_no_plane_separates() {
+        let sphere = icosphere([0.0; 3], 1.0, 1);
+        // Inside the sphere's box, outside the sphere: boxes overlap, planes separate.
+        let outside = cuboid([0.6; 3], [0.75; 3]);
+        let crossing = cuboid([0.5, -0.2, -0.2], [1.5, 0.2, 0.2]);
+        let sets = [
+            vec![&sphere, &outside],
+            vec![&sphere, &crossing],
+            vec![&sphere, &outside, &crossing],
+        ];
+        let (mut separated, mut kept) = (0, 0);
+        for operands in sets {
+            let input = ingest(&operands).expect("valid operands");
+            let n = input.triangles.len() as u32;
+            let (mut expected, mut overlapping) = (Vec::new(), 0);
+            for s in 0..n {
+                for t in s + 1..n {
+                    let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
+                    let boxes = triangle_box(&input, s as usize)
+                        .overlaps(&triangle_box(&input, t as usize));
+                    if !boxes || input.operand[s as usize] == input.operand[t as usize] {
+                        continue;
+                    }
+                    overlapping += 1;
+                    if planes_separate(a, b) {
+                        // What the list leaves out cannot touch.
+                        assert!(matches!(intersect_triangles(a, b), Intersection::Disjoint));
+                    } else {
+                        expected.push((s, t));
+                    }
+                }
+            }
+            assert_eq!(candidate_pairs(&input), expected);
+            separated += overlapping - expected.len();
+            kept += expected.len();
+        }
+        // Both kinds were met: the cube outside the sphere only has separated pairs.
+        assert!(
+            separated > 0 && kept > 0,
+            "{separated} separated, {kept} kept"
+        );
+    }
 }

@@ -294,6 +294,14 @@ fn separated(a: &Triangle, b: &Triangle, sa: &[Sign; 3], sb: &[Sign; 3]) -> bool
     }
 }
 
+/// True when the plane of one triangle has the other strictly on one side: the first test of
+/// [`intersect_triangles`] on its own, for the broad phase, which keeps such pairs out of its
+/// list instead of storing and sorting them (long thin triangles have boxes that overlap many
+/// triangles they cannot touch).
+pub(crate) fn planes_separate(a: &Triangle, b: &Triangle) -> bool {
+    one_side(&plane_signs(a, b)) || one_side(&plane_signs(b, a))
+}
+
 /// [`orient3d`] of each vertex of `t` against the plane of `other`.
 fn plane_signs(t: &Triangle, other: &Triangle) -> [Sign; 3] {
     let [r, s, u] = other.positions;
