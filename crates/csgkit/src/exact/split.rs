@@ -74,8 +74,9 @@
 //! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, orient2d_projected, orient2d_projected_if_clear,
-    orient2d_projected_or_collinear, orient2d_value_if_clear, orient3d, orient3d_plane,
+    Axis, Point, Point3, Sign, incircle_value_if_clear, orient2d_projected,
+    orient2d_projected_if_clear, orient2d_projected_or_collinear, orient2d_value_if_clear,
+    orient3d, orient3d_plane,
 };
 
 #[cfg(test)]
@@ -88,6 +89,13 @@ const DELAUNAY_BEFORE_SEGMENTS: usize = 8;
 /// The Delaunay phase's choice for the quadrilateral `[a, b, c, d]` (see
 /// [`Cdt::flip_while`]): flip `b c` to `a d` when `d` is clearly inside the circle of `a b c`
 /// and no triangle of the pair is flat.
+///
+/// The in-circle test is the f64 filter alone, not `robust::incircle`: the choice needs no
+/// exact answer (the points are approximations, and either diagonal of four points on a
+/// circle is Delaunay), and the cocircular quadrilaterals of grid parts (the squares of a
+/// Menger sponge) sent every test to its adaptive stages, which clear some 9 KB of buffers
+/// per call. Flipping only on certain signs still ends: each flip is a Lawson flip by the
+/// exact answer for these points.
 fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
     if is_flat(pa, pb, pc) || is_flat(pb, pd, pc) || is_flat(pa, pb, pd) || is_flat(pa, pd, pc) {
         return false;
@@ -95,44 +103,11 @@ fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
     // Not flat, so the filter proves the turn of `a b c`.
     let (Some(turn), Some(inside)) = (
         orient2d_value_if_clear(pa, pb, pc),
-        incircle_if_clear(pa, pb, pc, pd),
+        incircle_value_if_clear(pa, pb, pc, pd),
     ) else {
         return false;
     };
     inside * turn > 0.0
-}
-
-/// Shewchuk's error bound for the f64 in-circle determinant (`iccerrboundA` of his
-/// `predicates.c`), with `ε = 2^-53`.
-const INCIRCLE_BOUND: f64 = (10.0 + 96.0 * EPS) * EPS;
-const EPS: f64 = f64::EPSILON / 2.0;
-
-/// The in-circle determinant of `d` against `a b c` (positive inside when `a b c` turns
-/// counterclockwise) where its f64 value's sign is certain, `None` where only exact arithmetic
-/// could tell (`d` on or within rounding of the circle) or a value overflows or underflows.
-///
-/// Why not `robust::incircle`: the Delaunay choice needs no exact answer (the points are
-/// approximations, and either diagonal of four points on a circle is Delaunay), and the
-/// cocircular quadrilaterals of grid parts (the squares of a Menger sponge) sent every test
-/// to its adaptive stages, which clear some 9 KB of buffers per call. Flipping only on
-/// certain signs still ends: each flip is a Lawson flip by the exact answer for these points.
-fn incircle_if_clear(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Option<f64> {
-    let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
-    let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
-    let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
-    let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
-    let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
-    let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
-    let alift = adx * adx + ady * ady;
-    let blift = bdx * bdx + bdy * bdy;
-    let clift = cdx * cdx + cdy * cdy;
-    let det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * alift
-        + (cdxady.abs() + adxcdy.abs()) * blift
-        + (adxbdy.abs() + bdxady.abs()) * clift;
-    // A bound below the normal range may not cover products that underflowed.
-    let bound = INCIRCLE_BOUND * permanent;
-    (bound.is_normal() && (det > bound || -det > bound)).then_some(det)
 }
 
 /// How [`Cdt::flip_while`] decides that a quadrilateral is strictly convex, so that its

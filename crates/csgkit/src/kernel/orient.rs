@@ -170,11 +170,43 @@ pub(crate) fn orient2d_value_if_clear(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> 
 /// `|exact - f64| <= THETA |left + right|` when the two products have one sign.
 const ORIENT2D_THETA: f64 = 3.330_669_062_177_372_2e-16;
 
+/// The f64 in-circle determinant of `d` against `a b c` (positive inside when `a b c` turns
+/// counterclockwise) where Shewchuk's error bound (`iccerrboundA` of his `predicates.c`) makes
+/// its sign certain; `None` where only exact arithmetic could tell (`d` on or within rounding
+/// of the circle) or a value overflows or underflows. For choices of shape, which need no
+/// exact answer.
+pub(crate) fn incircle_value_if_clear(
+    a: [f64; 2],
+    b: [f64; 2],
+    c: [f64; 2],
+    d: [f64; 2],
+) -> Option<f64> {
+    const BOUND: f64 = (10.0 + 96.0 * EPSILON) * EPSILON;
+    let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
+    let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
+    let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
+    let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+    let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+    let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+    let alift = adx * adx + ady * ady;
+    let blift = bdx * bdx + bdy * bdy;
+    let clift = cdx * cdx + cdy * cdy;
+    let det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * alift
+        + (cdxady.abs() + adxcdy.abs()) * blift
+        + (adxbdy.abs() + bdxady.abs()) * clift;
+    // A bound below the normal range may not cover products that underflowed.
+    let bound = BOUND * permanent;
+    (bound.is_normal() && (det > bound || -det > bound)).then_some(det)
+}
+
+/// Shewchuk's `ε`, half an ulp of 1, in which his error bounds are written.
+const EPSILON: f64 = f64::EPSILON / 2.0;
+
 /// `robust::orient3d`'s first stage on its own (Shewchuk's `o3derrboundA`), as
 /// [`orient2d_filter`] is `robust::orient2d`'s.
 #[inline]
 fn orient3d_filter(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Option<Sign> {
-    const EPSILON: f64 = f64::EPSILON / 2.0;
     const BOUND: f64 = (7.0 + 56.0 * EPSILON) * EPSILON;
     let diff = |p: [f64; 3]| [p[0] - d[0], p[1] - d[1], p[2] - d[2]];
     let ([adx, ady, adz], [bdx, bdy, bdz], [cdx, cdy, cdz]) = (diff(a), diff(b), diff(c));

@@ -518,17 +518,20 @@ fn segment_across_a_fan() {
 fn in_circle_answers_only_where_certain() {
     let (a, b, c) = ([0.0, 0.0], [1.0, 0.0], [1.0, 1.0]);
     // The fourth corner of the square is on the circle: no certain side, no flip.
-    assert_eq!(incircle_if_clear(a, b, c, [0.0, 1.0]), None);
+    assert_eq!(incircle_value_if_clear(a, b, c, [0.0, 1.0]), None);
     assert!(!delaunay_flip([a, b, c, [0.0, 1.0]]));
     // Clearly inside and clearly outside, with `a b c` counterclockwise.
-    assert!(incircle_if_clear(a, b, c, [0.5, 0.5]).is_some_and(|d| d > 0.0));
-    assert!(incircle_if_clear(a, b, c, [3.0, 3.0]).is_some_and(|d| d < 0.0));
+    assert!(incircle_value_if_clear(a, b, c, [0.5, 0.5]).is_some_and(|d| d > 0.0));
+    assert!(incircle_value_if_clear(a, b, c, [3.0, 3.0]).is_some_and(|d| d < 0.0));
     // A point an ulp off the circle is within the rounding of the f64 determinant.
-    assert_eq!(incircle_if_clear(a, b, c, [0.0, 1.0f64.next_up()]), None);
+    assert_eq!(
+        incircle_value_if_clear(a, b, c, [0.0, 1.0f64.next_up()]),
+        None
+    );
     // Products that underflow prove nothing.
     let tiny = |p: [f64; 2]| p.map(|x| x * 1e-200);
     assert_eq!(
-        incircle_if_clear(tiny(a), tiny(b), tiny(c), tiny([0.5, 0.5])),
+        incircle_value_if_clear(tiny(a), tiny(b), tiny(c), tiny([0.5, 0.5])),
         None
     );
 }
