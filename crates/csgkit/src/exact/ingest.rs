@@ -301,25 +301,17 @@ fn of_made<T>(per_triangle: Vec<T>, made: &[Option<Triangle>]) -> Vec<T> {
 }
 
 /// The triangles that can be coincident with another of their operand, sorted: those with a
-/// side that links no neighbour, or whose neighbour has the same corners. A two-sided sheet
-/// or a repeated triangle makes its edges non-manifold (four uses), and those link nothing,
-/// so a clean operand costs one pass over its sides.
+/// side that links no neighbour, or whose three sides link one neighbour. A two-sided sheet
+/// or a repeated triangle makes its edges non-manifold (four uses), and those link nothing;
+/// a triangle whose reverse is the only other use of its edges links it across all three
+/// sides. Read from the links alone (the triangles' vertices only where they are needed), so
+/// a clean operand costs one sequential pass over its sides.
 fn coincidence_candidates(input: &Input) -> Vec<u32> {
-    let sorted = |t: usize| {
-        let mut corners = input.triangles[t].vertices();
-        corners.sort_unstable();
-        corners
-    };
-    (0..input.triangles.len())
-        .into_par_iter()
-        .filter(|&t| {
-            let links = &input.neighbours[3 * t..3 * t + 3];
-            links.contains(&NO_NEIGHBOUR) || {
-                let own = sorted(t);
-                links.iter().any(|&n| sorted(n as usize) == own)
-            }
+    (input.neighbours.par_chunks(3).enumerate())
+        .filter(|(_, links)| {
+            links.contains(&NO_NEIGHBOUR) || (links[0] == links[1] && links[1] == links[2])
         })
-        .map(|t| t as u32)
+        .map(|(t, _)| t as u32)
         .collect()
 }
 
@@ -406,7 +398,8 @@ fn power_of_two_scale(coords: &[Point3]) -> f64 {
 
 /// Checks that every edge of every operand is balanced, and links each triangle side to the
 /// triangle across it where the edge is a plain two-sided edge of one operand. Operands are
-/// linked side by side: an edge's uses are counted within its operand only.
+/// linked side by side, each into its own part of the one table returned: an edge's uses are
+/// counted within its operand only.
 fn link_edges(
     input: &Input,
     degenerate: &[(u32, [u32; 3])],
@@ -414,9 +407,16 @@ fn link_edges(
     remap: &[u32],
     offsets: &[usize],
 ) -> Result<Vec<u32>, InvalidOperand> {
-    let links: Vec<OperandLinks> = (0..operands.len())
-        .into_par_iter()
-        .map(|k| {
+    let mut neighbours = vec![NO_NEIGHBOUR; 3 * input.triangles.len()];
+    let mut parts = Vec::with_capacity(operands.len());
+    let mut rest = neighbours.as_mut_slice();
+    for k in 0..operands.len() {
+        let (own, tail) = rest.split_at_mut(3 * input.operand_triangles(k).len());
+        parts.push(own);
+        rest = tail;
+    }
+    let unbalanced: Vec<Unbalanced> = (parts.into_par_iter().enumerate())
+        .map(|(k, own)| {
             // The sides of the operand's degenerate triangles count for balance but link
             // nothing. A side from a vertex to itself is no edge.
             let flat: Vec<[u32; 2]> = (degenerate.iter())
@@ -424,10 +424,10 @@ fn link_edges(
                 .flat_map(|&(_, t)| (0..3).map(move |i| [t[i], t[(i + 1) % 3]]))
                 .filter(|&[a, b]| a != b)
                 .collect();
-            link_operand(input, k, &flat)
+            link_operand(input, k, &flat, own)
         })
         .collect();
-    if let Some(k) = links.iter().position(|l| l.unbalanced_count > 0) {
+    if let Some(k) = unbalanced.iter().position(|u| u.count > 0) {
         // The operand's own index of a welded vertex (the welded representative may belong
         // to another operand). Only on this error path, so a scan is fine.
         let local = |v: u32| {
@@ -437,29 +437,30 @@ fn link_edges(
         };
         return Err(InvalidOperand::NotClosed {
             operand: k,
-            count: links[k].unbalanced_count,
-            first: (links[k].unbalanced.iter())
+            count: unbalanced[k].count,
+            first: (unbalanced[k].first.iter())
                 .map(|&[a, b]| [local(a), local(b)])
                 .collect(),
         });
     }
-    Ok(links.into_iter().flat_map(|l| l.neighbours).collect())
+    Ok(neighbours)
 }
 
-/// What [`link_operand`] finds in one operand.
-struct OperandLinks {
-    /// For each side of the operand's triangles, the triangle across it, or [`NO_NEIGHBOUR`].
-    neighbours: Vec<u32>,
+/// The unbalanced edges [`link_operand`] finds in one operand.
+struct Unbalanced {
     /// How many edges are unbalanced.
-    unbalanced_count: usize,
+    count: usize,
     /// The first [`ERROR_EXAMPLES`] of them (welded vertex ids, smaller first), in that order.
-    unbalanced: Vec<[u32; 2]>,
+    first: Vec<[u32; 2]>,
 }
 
 /// Counts the uses of every edge of operand `k` in each direction, its triangles' sides and
 /// then the `flat` sides of its degenerate triangles, and links the sides of each edge used
-/// exactly twice, once each way.
-fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]]) -> OperandLinks {
+/// exactly twice, once each way: `neighbours[3 t + i]` (`t` counted from the operand's first
+/// triangle) becomes the triangle across side `i` of `t`.
+fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]], neighbours: &mut [u32]) -> Unbalanced {
+    /// Buckets per parallel task when sorting them.
+    const BLOCK: usize = 1 << 12;
     let range = input.operand_triangles(k);
     let triangles = &input.triangles[range.clone()];
     let side_count = 3 * triangles.len();
@@ -471,56 +472,68 @@ fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]]) -> OperandLinks {
         }
     };
     // One record per side, bucketed by its smaller vertex (a counting sort: linear, unlike one
-    // sort of all sides), then each small bucket sorted by its larger vertex.
+    // sort of all sides), then each small bucket sorted by its larger vertex. `bounds[v + 1]`
+    // counts bucket `v`, then (summed) is where it starts; placing a side moves its bucket's
+    // start one on, so that afterwards `bounds[v]` is where bucket `v` ends.
     let all_sides = side_count + flat.len();
-    let mut bucket_starts = vec![0u32; input.positions.len() + 1];
+    let vertex_count = input.positions.len();
+    let mut bounds = vec![0u32; vertex_count + 1];
     for side in 0..all_sides {
         let [a, b] = ends(side);
-        bucket_starts[a.min(b) as usize + 1] += 1;
+        bounds[a.min(b) as usize + 1] += 1;
     }
-    for v in 1..bucket_starts.len() {
-        bucket_starts[v] += bucket_starts[v - 1];
+    for v in 1..bounds.len() {
+        bounds[v] += bounds[v - 1];
     }
-    let mut next = bucket_starts.clone();
     // (larger vertex, side << 1 | forward).
     let mut sides = vec![(0u32, 0u32); all_sides];
     for side in 0..all_sides {
         let [a, b] = ends(side);
-        let slot = &mut next[a.min(b) as usize];
+        let slot = &mut bounds[a.min(b) as usize];
         sides[*slot as usize] = (a.max(b), (side as u32) << 1 | u32::from(a < b));
         *slot += 1;
     }
+    let bucket = |v: usize| {
+        let start = if v == 0 { 0 } else { bounds[v - 1] };
+        start as usize..bounds[v] as usize
+    };
+    let mut blocks = Vec::with_capacity(vertex_count.div_ceil(BLOCK));
     let mut rest = sides.as_mut_slice();
-    let mut buckets = Vec::with_capacity(bucket_starts.len());
-    for w in bucket_starts.windows(2) {
-        let (bucket, tail) = rest.split_at_mut((w[1] - w[0]) as usize);
-        buckets.push(bucket);
+    for first in (0..vertex_count).step_by(BLOCK) {
+        let last = (first + BLOCK).min(vertex_count) - 1;
+        let (block, tail) = rest.split_at_mut(bucket(last).end - bucket(first).start);
+        blocks.push((first..last + 1, block));
         rest = tail;
     }
-    buckets.par_iter_mut().for_each(|b| b.sort_unstable());
-    let mut links = OperandLinks {
-        neighbours: vec![NO_NEIGHBOUR; side_count],
-        unbalanced_count: 0,
-        unbalanced: Vec::new(),
+    blocks.par_iter_mut().for_each(|(vertices, block)| {
+        let base = bucket(vertices.start).start;
+        for v in vertices.clone() {
+            let own = bucket(v);
+            block[own.start - base..own.end - base].sort_unstable();
+        }
+    });
+    let mut unbalanced = Unbalanced {
+        count: 0,
+        first: Vec::new(),
     };
-    for (smaller, bucket) in buckets.iter().enumerate() {
-        for run in bucket.chunk_by(|s, t| s.0 == t.0) {
+    for smaller in 0..vertex_count {
+        for run in sides[bucket(smaller)].chunk_by(|s, t| s.0 == t.0) {
             let forward = run.iter().filter(|s| s.1 & 1 == 1).count();
             if 2 * forward != run.len() {
-                links.unbalanced_count += 1;
-                if links.unbalanced.len() < ERROR_EXAMPLES {
-                    links.unbalanced.push([smaller as u32, run[0].0]);
+                unbalanced.count += 1;
+                if unbalanced.first.len() < ERROR_EXAMPLES {
+                    unbalanced.first.push([smaller as u32, run[0].0]);
                 }
             } else if let [r, s] = run {
                 let (p, q) = ((r.1 >> 1) as usize, (s.1 >> 1) as usize);
                 if p < side_count && q < side_count {
-                    links.neighbours[p] = (q / 3 + range.start) as u32;
-                    links.neighbours[q] = (p / 3 + range.start) as u32;
+                    neighbours[p] = (q / 3 + range.start) as u32;
+                    neighbours[q] = (p / 3 + range.start) as u32;
                 }
             }
         }
     }
-    links
+    unbalanced
 }
 
 /// The signed volume of operand `k` (scaled), by the divergence theorem.
