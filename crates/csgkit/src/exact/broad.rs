@@ -5,15 +5,20 @@
 //! overlap thousands of triangles they cannot touch, and such pairs are not worth a place in
 //! the list, its sort and the intersect stage's loop.
 //!
-//! Only triangles inside the region where operands overlap are indexed. Two operands: one
-//! [`Bvh`] over the smaller operand's triangles in the overlap of both operand boxes, queried
-//! by each of the other operand's triangles there, in parallel. More: one tree over every triangle that meets another operand's box,
-//! queried against itself, keeping pairs of different operands. Output order is
-//! deterministic (the BVH queries are), then sorted.
+//! Only triangles near where operands meet are indexed. Two operands: in the overlap of both
+//! operand boxes, each operand marks the cells of a coarse grid its triangles' boxes overlap
+//! ([`Occupancy`]), and a [`Bvh`] is built over each operand's triangles there that touch a
+//! cell the other marked (a pair whose boxes overlap shares such a cell); the two trees are
+//! walked against each other ([`Bvh::overlapping_filter_map`]), which drops whole subtrees of
+//! either side at once. On two offset 1 M-triangle spheres the overlap of the boxes holds
+//! 750 k triangles of each, of which the grid keeps the few near the intersection curve. More
+//! operands: one tree over every triangle that meets another operand's box, queried against
+//! itself, keeping pairs of different operands. Output order is deterministic (the BVH walks
+//! are), then sorted.
 
 use crate::par::*;
 
-use crate::index::{Aabb, Bvh};
+use crate::index::{Aabb, Bvh, CellSpan, Occupancy};
 
 use super::ingest::Input;
 use super::intersect::planes_separate;
@@ -31,29 +36,28 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         if region.is_empty() {
             return Vec::new();
         }
-        // One tree over the smaller operand, queried by each triangle of the other in the
-        // region: cheaper than building a second tree for a one-shot query. Boxes are
-        // computed where they are used, not stored for every triangle: most of a large
-        // operand lies outside the region.
         let (a, b) = (input.operand_triangles(0), input.operand_triangles(1));
-        let (small, large) = if a.len() <= b.len() { (a, b) } else { (b, a) };
-        let offset = small.start;
-        let tree = Bvh::build_in(small.len(), |s| triangle_box(input, s + offset), &region);
-        (large.into_par_iter())
-            .flat_map_iter(|t| {
-                let query = triangle_box(input, t);
-                let mut hits = Vec::new();
-                if query.overlaps(&region) {
-                    tree.visit_overlapping(&query, |s| {
-                        let s = s + offset as u32;
-                        if !planes_separate(&input.triangles[s as usize], &input.triangles[t]) {
-                            hits.push((s.min(t as u32), s.max(t as u32)));
-                        }
-                    });
-                }
-                hits
-            })
-            .collect()
+        let box_a = |s: usize| triangle_box(input, s + a.start);
+        let box_b = |t: usize| triangle_box(input, t + b.start);
+        let side = Occupancy::side_for(a.len() + b.len());
+        let ((cells_a, spans_a), (cells_b, spans_b)) = join(
+            || Occupancy::of(&region, side, a.len(), box_a),
+            || Occupancy::of(&region, side, b.len(), box_b),
+        );
+        let near = |spans: &[CellSpan], other: &Occupancy| -> Vec<u32> {
+            (0..spans.len() as u32)
+                .into_par_iter()
+                .filter(|&i| other.touches(spans[i as usize]))
+                .collect()
+        };
+        let tree_a = Bvh::build_over(near(&spans_a, &cells_b), box_a);
+        let tree_b = Bvh::build_over(near(&spans_b, &cells_a), box_b);
+        let (first_a, first_b) = (a.start as u32, b.start as u32);
+        tree_a.overlapping_filter_map(&tree_b, |s, t| {
+            let (s, t) = (s + first_a, t + first_b);
+            let (x, y) = (&input.triangles[s as usize], &input.triangles[t as usize]);
+            (!planes_separate(x, y)).then_some((s, t))
+        })
     } else {
         let operand_tree = Bvh::build(&input.operand_boxes);
         let near_other: Vec<Aabb> = (0..input.triangles.len())

@@ -87,6 +87,12 @@ impl Bvh {
             .into_par_iter()
             .filter(|&i| keep(&box_of(i as usize)))
             .collect();
+        Self::build_over(ids, box_of)
+    }
+
+    /// Builds a tree over the primitives `ids` (distinct), whose boxes are `box_of(id)` (as
+    /// in [`Bvh::build_with`]): for a caller that chose them without their boxes.
+    pub fn build_over(ids: Vec<u32>, box_of: impl Fn(usize) -> Aabb + Sync) -> Bvh {
         let ids = morton_order(&box_of, ids);
         let sorted: Vec<Aabb> = ids.par_iter().map(|&i| box_of(i as usize)).collect();
         let leaf_count = sorted.len().div_ceil(LEAF_SIZE).max(1).next_power_of_two();

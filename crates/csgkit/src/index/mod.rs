@@ -1,4 +1,5 @@
-//! Spatial index: a bounding-volume hierarchy over axis-aligned boxes.
+//! Spatial index: a bounding-volume hierarchy over axis-aligned boxes, and a coarse grid that
+//! narrows what the hierarchy indexes.
 //!
 //! The exact engine's broad phase asks one question of it: which pairs of triangles, one from
 //! each of two meshes (or two from one mesh, for the self-intersection check), have
@@ -23,10 +24,16 @@
 //!   [`Bvh::self_overlapping_pairs`] within one, both parallel and deterministic; their
 //!   `_filter_map` forms decide each pair as the walk finds it and keep only what the caller
 //!   returns, without storing the candidates.
+//! - [`Occupancy`] (`occupancy.rs`): the cells of a coarse uniform grid that a set of boxes
+//!   overlaps; the broad phase indexes only the triangles of each operand in cells the other
+//!   occupies (near where the surfaces meet), so its trees are built over a fraction of the
+//!   overlap of two large operands.
 
 mod aabb;
 mod bvh_build;
 mod bvh_query;
+mod occupancy;
 
 pub use aabb::Aabb;
 pub use bvh_build::Bvh;
+pub use occupancy::{CellSpan, Occupancy};

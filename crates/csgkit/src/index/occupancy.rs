@@ -1,0 +1,219 @@
+//! A coarse uniform grid of the cells some boxes overlap: a filter that finds, before any tree
+//! is built, the few boxes of one set that can overlap a box of another.
+//!
+//! Two surfaces whose bounding boxes overlap over most of their extent (two offset spheres)
+//! meet along a curve, and only the triangles near that curve can form a candidate pair. A
+//! tree over everything in the overlap of the operand boxes indexes both whole surfaces
+//! there (750 k triangles of each 1 M-triangle sphere); the grid, marked by one operand and
+//! read by the other, keeps only the triangles in cells both occupy.
+//!
+//! # Why it never drops an overlapping pair
+//! A box covers the cells `cell(min) ..= cell(max)` on each axis, with
+//! `cell(x) = ⌊(x − frame.min) · side / extent⌋` clamped to the grid, evaluated in f64. Each
+//! step (a subtraction, a product by a positive constant, truncation, clamping) is monotone
+//! in `x`, so the evaluated `cell` is too, though not exact. Two closed boxes that overlap
+//! share the point `p` whose coordinates are the larger of their minima (f64 values), and
+//! by monotonicity each box's cell range contains `cell(p)` on every axis (wherever `p` is:
+//! clamping is monotone too): the cell of `p` is marked by one box and covered by the other.
+
+use crate::par::*;
+
+use super::Aabb;
+
+/// The largest grid side: 128³ cells (a 256 KB bitset), cell indices of 7 bits per axis.
+const MAX_SIDE: usize = 128;
+
+/// Boxes marked per parallel task (each task fills a bitset of its own).
+const MARK_CHUNK: usize = 1 << 16;
+
+/// The cells of a uniform grid over a frame that a set of boxes overlaps.
+#[derive(Clone, Debug)]
+pub struct Occupancy {
+    frame_min: [f64; 3],
+    /// Cells per unit length on each axis (zero on an axis where the frame is flat).
+    scale: [f64; 3],
+    side: usize,
+    /// Bit `x + side (y + side z)` is set when a marked box overlaps cell `(x, y, z)`.
+    bits: Vec<u64>,
+}
+
+/// The cells a box covers, packed in 42 bits: the first cell on each axis and the number of
+/// cells after it on that axis, 7 bits each. Eight bytes per box, so that a second pass over
+/// a million boxes reads these rather than recomputing every box from its triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CellSpan(u64);
+
+impl CellSpan {
+    /// The span of a box outside the frame: no cell.
+    pub const NONE: CellSpan = CellSpan(u64::MAX);
+
+    fn new(first: [usize; 3], last: [usize; 3]) -> CellSpan {
+        let field =
+            |k: usize| (first[k] as u64) << (7 * k) | ((last[k] - first[k]) as u64) << (21 + 7 * k);
+        CellSpan(field(0) | field(1) | field(2))
+    }
+
+    /// The first and last cell on each axis.
+    fn bounds(self) -> [(usize, usize); 3] {
+        let bits = |shift: usize| (self.0 >> shift & 0x7f) as usize;
+        std::array::from_fn(|k| (bits(7 * k), bits(7 * k) + bits(21 + 7 * k)))
+    }
+}
+
+impl Occupancy {
+    /// The grid side for sets of about `boxes` boxes in all: near one cell per box along a
+    /// surface (`√boxes` cells a side), at most [`MAX_SIDE`].
+    pub fn side_for(boxes: usize) -> usize {
+        (boxes as f64).sqrt().ceil().clamp(1.0, MAX_SIDE as f64) as usize
+    }
+
+    /// The cells of a `side`³ grid over `frame` (`side` at most [`MAX_SIDE`]) that the boxes
+    /// `box_of(0) .. box_of(len - 1)` overlapping `frame` overlap, and the cells of each box
+    /// ([`CellSpan::NONE`] for those outside the frame).
+    pub fn of(
+        frame: &Aabb,
+        side: usize,
+        len: usize,
+        box_of: impl Fn(usize) -> Aabb + Sync,
+    ) -> (Occupancy, Vec<CellSpan>) {
+        let side = side.clamp(1, MAX_SIDE);
+        let scale = std::array::from_fn(|k| {
+            let extent = frame.max[k] - frame.min[k];
+            if extent > 0.0 {
+                side as f64 / extent
+            } else {
+                0.0
+            }
+        });
+        let mut grid = Occupancy {
+            frame_min: frame.min,
+            scale,
+            side,
+            bits: Vec::new(),
+        };
+        let words = (side * side * side).div_ceil(64);
+        let mut spans = vec![CellSpan::NONE; len];
+        let parts: Vec<&mut [CellSpan]> = spans.chunks_mut(MARK_CHUNK).collect();
+        let marked = (parts.into_par_iter().enumerate())
+            .map(|(part, out)| {
+                let mut bits = vec![0u64; words];
+                for (span, i) in out.iter_mut().zip(part * MARK_CHUNK..) {
+                    let b = box_of(i);
+                    if b.overlaps(frame) {
+                        *span = grid.span(&b);
+                        grid.for_each_cell(*span, |c| bits[c / 64] |= 1 << (c % 64));
+                    }
+                }
+                bits
+            })
+            .reduce_with(|mut a, b| {
+                (a.iter_mut().zip(&b)).for_each(|(x, y)| *x |= y);
+                a
+            });
+        grid.bits = marked.unwrap_or_else(|| vec![0; words]);
+        (grid, spans)
+    }
+
+    /// The cells box `b` covers, in this grid.
+    pub fn span(&self, b: &Aabb) -> CellSpan {
+        CellSpan::new(
+            std::array::from_fn(|k| self.cell(k, b.min[k])),
+            std::array::from_fn(|k| self.cell(k, b.max[k])),
+        )
+    }
+
+    /// Whether a box covering `span` (of a grid with this frame and side) overlaps a marked
+    /// cell: always when it overlaps a marked box (see the module docs), rarely otherwise.
+    pub fn touches(&self, span: CellSpan) -> bool {
+        let mut found = false;
+        if span != CellSpan::NONE {
+            self.for_each_cell(span, |c| found |= self.bits[c / 64] >> (c % 64) & 1 == 1);
+        }
+        found
+    }
+
+    /// Calls `visit` with the index `x + side (y + side z)` of every cell in `span`.
+    fn for_each_cell(&self, span: CellSpan, mut visit: impl FnMut(usize)) {
+        let [(x0, x1), (y0, y1), (z0, z1)] = span.bounds();
+        for z in z0..=z1 {
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    visit(x + self.side * (y + self.side * z));
+                }
+            }
+        }
+    }
+
+    /// The cell index of coordinate `x` on axis `k`: monotone in `x`.
+    fn cell(&self, k: usize, x: f64) -> usize {
+        // `as` saturates: below the frame (or NaN) is cell 0.
+        (((x - self.frame_min[k]) * self.scale[k]) as usize).min(self.side - 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    fn boxes() -> impl Strategy<Value = Vec<Aabb>> {
+        let corner = [-2.0f64..2.0, -2.0f64..2.0, -2.0f64..2.0];
+        let size = [0.0f64..0.5, 0.0f64..0.5, 0.0f64..0.5];
+        prop::collection::vec((corner, size), 0..40).prop_map(|v| {
+            (v.into_iter())
+                .map(|(min, size)| Aabb {
+                    min,
+                    max: std::array::from_fn(|k| min[k] + size[k]),
+                })
+                .collect()
+        })
+    }
+
+    proptest! {
+        #[test]
+        fn a_box_that_overlaps_a_marked_box_touches_the_grid(
+            a in boxes(),
+            b in boxes(),
+            side in 1usize..20,
+        ) {
+            let frame = Aabb {
+                min: [-1.0, -1.5, -1.0],
+                max: [1.0, 0.5, 1.0 + 1e-9],
+            };
+            let (marked, spans) = Occupancy::of(&frame, side, b.len(), |i| b[i]);
+            for (y, span) in b.iter().zip(&spans) {
+                prop_assert_eq!(*span == CellSpan::NONE, !y.overlaps(&frame));
+            }
+            for x in &a {
+                let meets = b.iter().any(|y| y.overlaps(x) && y.overlaps(&frame));
+                prop_assert!(!meets || marked.touches(marked.span(x)), "{x:?} overlaps a marked box");
+            }
+        }
+    }
+
+    #[test]
+    fn far_boxes_do_not_touch() {
+        let frame = Aabb {
+            min: [0.0; 3],
+            max: [1.0; 3],
+        };
+        let corner = Aabb {
+            min: [0.0; 3],
+            max: [0.1; 3],
+        };
+        let (marked, _) = Occupancy::of(&frame, 8, 1, |_| corner);
+        let far = Aabb {
+            min: [0.9; 3],
+            max: [1.0; 3],
+        };
+        assert!(marked.touches(marked.span(&corner)));
+        assert!(!marked.touches(marked.span(&far)));
+        // Touching at a corner point counts, as for the boxes themselves.
+        let touching = Aabb {
+            min: [0.1; 3],
+            max: [0.2; 3],
+        };
+        assert!(marked.touches(marked.span(&touching)));
+    }
+}
