@@ -76,6 +76,16 @@ fn boolean_keeps_a_pinch_vertex_as_a_corner_of_merged_faces() {
     checks::solids::check_case(&solids_case("solid_touching_a_polygon_inside"));
 }
 
+/// (A ∪ B) ∪ C written as quads: a quad of two certified triangles whose four corners are
+/// not coplanar (three on the box's plane x = 8, one off it) was written from a corner off
+/// their shared side, so readers that fan from the first corner (csgkit among them) took the
+/// other diagonal, a triangle in that plane that overlapped the box's face there. A quad now
+/// starts at a corner of the side its triangles share.
+#[test]
+fn boolean_writes_a_quad_fanned_across_its_shared_side() {
+    checks::solids::check_case(&solids_case("quad_across_the_other_diagonal"));
+}
+
 /// An OBJ group whose name ends in `\` once its comment is cut: written as it was, the name
 /// joined the next line, a face, and the round trip lost it.
 #[test]

@@ -12,7 +12,8 @@
 //!   holes, or that no corner sees whole, is cut into few such pieces along existing
 //!   triangle sides;
 //! - [`FaceMode::Quads`]: triangles and strictly convex quads, each quad two triangles of one
-//!   provenance.
+//!   provenance, written from a corner of the side they share, so that the fan from its first
+//!   corner gives back those two triangles.
 //!
 //! A face whose merged boundary has the corners of its source face, at the same positions
 //! (a face nothing cut), is written with the source's corners in the source's cyclic order,
@@ -44,7 +45,8 @@
 //!   and the apex of one sees the other's whole boundary; each piece's boundary is traced by
 //!   turning around its corners through its triangles and starts at the apex;
 //! - quads: triangles paired greedily across dissolved sides where the pair is strictly
-//!   convex, those with fewest choices first.
+//!   convex, those with fewest choices first; each quad's boundary starts at a corner of the
+//!   side it dissolved.
 //!
 //! Faces keep the order of their lowest triangle.
 
@@ -313,7 +315,10 @@ impl Region {
                 .map(|(piece, apex)| (piece, Some(apex)))
                 .collect(),
             FaceMode::Quads => (self.quads(positions).into_iter())
-                .map(|piece| (piece, None))
+                .map(|piece| {
+                    let apex = self.shared_corner(&piece);
+                    (piece, apex)
+                })
                 .collect(),
             FaceMode::Triangles => (0..self.triangles.len() as u32)
                 .map(|i| (vec![i], None))
@@ -531,6 +536,16 @@ impl Region {
         }
         pieces.sort_unstable_by_key(|piece| piece[0]);
         pieces
+    }
+
+    /// For a quad (two triangles), a corner of the side its triangles share: written from it,
+    /// the quad is fanned across that side. Its four corners need not lie in one plane (a cut
+    /// face after rounding), and across the other diagonal it would be another surface, which
+    /// can cross its neighbours where the certified triangles do not.
+    fn shared_corner(&self, piece: &[u32]) -> Option<u32> {
+        let [i, k] = piece else { return None };
+        let other = self.triangles[*k as usize];
+        (self.triangles[*i as usize].into_iter()).find(|v| other.contains(v))
     }
 
     /// Whether triangle `i` and triangle `k` across its side `j` make a strictly convex quad.
