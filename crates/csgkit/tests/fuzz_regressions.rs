@@ -86,6 +86,37 @@ fn boolean_writes_a_quad_fanned_across_its_shared_side() {
     checks::solids::check_case(&solids_case("quad_across_the_other_diagonal"));
 }
 
+/// (A ∪ B) ∪ C with C a cube of side 0.25 at the origin: A ∪ B has a face that is a sliver
+/// (thinner than the f64 grid, two corners within 2e-18 of the origin) in the plane of C's
+/// bottom face, whose triangles lie on all three of its edges. The winding
+/// classification took a sliver's winding numbers only from a neighbour in its own input
+/// triangle, and it has none. A sliver now takes them from a classified patch of its coincident
+/// stack when its face has none.
+#[test]
+fn boolean_classifies_a_sliver_input_triangle_from_its_coincident_stack() {
+    checks::solids::check_case(&solids_case("sliver_input_triangle_in_a_coplanar_stack"));
+}
+
+/// The same in another plane of the cube, with C two copies of it: two coincident faces of C
+/// over the sliver.
+#[test]
+fn boolean_classifies_a_sliver_input_triangle_in_a_doubled_stack() {
+    checks::solids::check_case(&solids_case(
+        "sliver_input_triangle_in_a_doubled_coplanar_stack",
+    ));
+}
+
+/// (A ∪ B) ∪ C: a face of A ∪ B in the plane of C's top face is cut by C's diagonal into a
+/// sliver and a sub-triangle about 5e-19 wide near the origin, which holds f64 points, but the
+/// sample candidates were built from the f64 approximation of its implicit corner, 40 times
+/// too far from the origin, so neither had a sample point and the sliver no classified
+/// neighbour. Patches with no sample from the approximations now try the corners rounded
+/// correctly.
+#[test]
+fn boolean_samples_a_sub_triangle_near_the_origin_from_rounded_corners() {
+    checks::solids::check_case(&solids_case("sliver_near_origin_with_an_implicit_corner"));
+}
+
 /// An OBJ group whose name ends in `\` once its comment is cut: written as it was, the name
 /// joined the next line, a face, and the round trip lost it.
 #[test]

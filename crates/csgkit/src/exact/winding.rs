@@ -19,7 +19,9 @@
 //! # Algorithm
 //! Per patch (sub-triangles connected without crossing any surface, `classify::patches`):
 //! 1. **Sample.** A point `C` strictly inside the projection of one of its sub-triangles `s`
-//!    (the f64 centroid of the corners, verified by exact [`orient2d_projected`]), projected
+//!    (the f64 centroid of the corners, or a point nearer a corner or an edge, verified by
+//!    exact [`orient2d_projected`]; built from the corners' f64 approximations, and for the
+//!    few patches where none of those is inside, from the corners rounded correctly), projected
 //!    along the axis `a` its source triangle `T` does not collapse on; `p` is the point of
 //!    `T`'s plane over `C` (an explicit point when `T` is perpendicular to `a`, otherwise the
 //!    [`Point::lpi`] of the line through `C` along `a`), exactly inside `s`.
@@ -37,7 +39,12 @@
 //!    within it from the lowest patch (coincident patches cover the same region, since each is
 //!    cut along the other's edges). A sliver too thin for an f64 sample takes its winding
 //!    numbers from a neighbour in its face, and its stack from the coplanar input triangles
-//!    that hold it, decided exactly on its corners.
+//!    that hold it, decided exactly on its corners. A sliver with no classified neighbour in
+//!    its face (another operand's coplanar faces on all its edges) takes them from a
+//!    classified patch of its stack instead: the winding numbers just off the plane are the
+//!    same all over that patch, which overlaps the sliver, so they are the sliver's front
+//!    when the stack face faces the same way, and its back otherwise, from which the front
+//!    follows exactly by undoing every coincident face's orientation, as `back` adds them.
 //!
 //! # Complexity
 //! One [`Bvh`] over the input triangles and one ray per patch: O((n + P) log n) plus the
@@ -48,7 +55,7 @@ use crate::par::*;
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{
     Axis, Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane,
-    orient3d_points, simplify,
+    orient3d_points, round_point, simplify,
 };
 use crate::mesh::union_find::UnionFind;
 
@@ -220,16 +227,36 @@ const SAMPLE_WEIGHTS: [[f64; 3]; 7] = [
 ];
 
 /// A sample point strictly inside sub-triangle `corners` of input triangle `source`, or
-/// `None` when the f64 centroid of its projection is not strictly inside (a sliver).
+/// `None` when no candidate built from the corners' f64 approximations is strictly inside (a
+/// sliver, or a sub-triangle smaller than the approximations' error).
 pub(crate) fn sample_point(
     input: &Input,
     source: u32,
     corners: &[Point; 3],
 ) -> Option<SamplePoint> {
+    sample_point_near(input, source, corners, corners.map(|p| p.approx()))
+}
+
+/// The same with candidates built from the corners rounded correctly, for the patches
+/// [`sample_point`] finds no point in. An approximation's error is absolute, a few ulps of the
+/// magnitudes of the points that define the corner, so near the origin it can exceed a
+/// sub-triangle that still holds f64 points; rounding exactly takes big integers, too slow for
+/// every patch.
+fn sample_point_rounded(input: &Input, source: u32, corners: &[Point; 3]) -> Option<SamplePoint> {
+    sample_point_near(input, source, corners, corners.map(|p| round_point(&p)))
+}
+
+/// A sample point strictly inside sub-triangle `corners` of input triangle `source`, from
+/// candidates built from `approx`, f64 points near the corners.
+fn sample_point_near(
+    input: &Input,
+    source: u32,
+    corners: &[Point; 3],
+    approx: [Point3; 3],
+) -> Option<SamplePoint> {
     let tri = &input.triangles[source as usize];
     let axis = tri.drop_axis();
     let a = axis.index();
-    let approx = corners.map(|p| p.approx());
     let turn = tri.turn();
     // The centroid first, then points nearer each corner and each edge: a thin sub-triangle
     // may hold an f64 point away from its centroid.
@@ -273,7 +300,8 @@ pub(crate) fn sample_point(
 ///
 /// # Errors
 /// [`StageError::Unsupported`] when a patch has no sub-triangle wide enough to hold an f64
-/// sample point strictly inside; [`StageError::Cancelled`].
+/// sample point strictly inside and no classified neighbour in its face or its coincident
+/// stack; [`StageError::Cancelled`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn select(
     expression: &Expression,
@@ -296,6 +324,23 @@ pub(crate) fn select(
             continue;
         }
         if let Some(at) = sample_point(input, arr.source[s], &corners(s)) {
+            samples[p as usize] = Some((s as u32, at));
+            missing -= 1;
+        }
+    }
+    // The patches left, from correctly rounded corners.
+    for (s, &p) in patch_of.iter().enumerate() {
+        if missing == 0 {
+            break;
+        }
+        if samples[p as usize].is_some() {
+            continue;
+        }
+        let corners = corners(s);
+        if corners.iter().all(Point::is_explicit) {
+            continue; // the same candidates as above
+        }
+        if let Some(at) = sample_point_rounded(input, arr.source[s], &corners) {
             samples[p as usize] = Some((s as u32, at));
             missing -= 1;
         }
@@ -362,8 +407,11 @@ struct PatchAt {
 /// the other sheets at `e` that leave it in front of `T`, and each changes its operand's
 /// winding number by one, up when the sliver's side is behind the sheet (exact
 /// [`orient3d_plane`] and [`orient3d_points`] on the sheets' sub-triangles). Coplanar sheets
-/// lie in `T`'s plane and are not crossed. The sliver's coincident faces are found exactly
-/// ([`sliver_stack`]).
+/// lie in `T`'s plane and are not crossed. When no sliver left has a classified neighbour in
+/// its face (a sliver that is a whole input triangle, or whose neighbours in `T` are slivers
+/// too, with another operand's coplanar faces on every edge, which make each a patch
+/// boundary), each takes them from a classified patch of its coincident stack instead
+/// ([`front_from_stack`]). The sliver's coincident faces are found exactly ([`sliver_stack`]).
 fn propagate_to_slivers(
     input: &Input,
     arr: &Arrangement,
@@ -391,9 +439,12 @@ fn propagate_to_slivers(
         }
     }
     let point = |v: u32| arr.point(input, v);
+    // The coincident faces and stack of each pending sub-triangle, kept from a try of the
+    // stack rule that found nothing classified yet.
+    let mut stacks = vec![None; pending.len()];
     loop {
         let mut progress = false;
-        for &s in &pending {
+        for (slot, &s) in pending.iter().enumerate() {
             let p = patch_of[s as usize] as usize;
             if found[p].is_some() {
                 continue;
@@ -438,7 +489,8 @@ fn propagate_to_slivers(
                 }
                 front.retain(|e| e.1 != 0);
                 front.sort_unstable();
-                let (coincident, stack) = sliver_stack(input, arr, tree, s);
+                let (coincident, stack) =
+                    (stacks[slot].take()).unwrap_or_else(|| sliver_stack(input, arr, tree, s));
                 found[p] = Some(Sample {
                     front,
                     coincident,
@@ -451,14 +503,76 @@ fn propagate_to_slivers(
         if found.iter().all(Option::is_some) {
             return Ok(());
         }
+        if progress {
+            continue;
+        }
+        for (slot, &s) in pending.iter().enumerate() {
+            let p = patch_of[s as usize] as usize;
+            if found[p].is_some() {
+                continue;
+            }
+            let (coincident, stack) =
+                stacks[slot].get_or_insert_with(|| sliver_stack(input, arr, tree, s));
+            let Some(front) = front_from_stack(input, arr, patch_of, found, coincident, stack)
+            else {
+                continue;
+            };
+            let (coincident, stack) = stacks[slot].take().expect("computed above");
+            found[p] = Some(Sample {
+                front,
+                coincident,
+                stack,
+            });
+            progress = true;
+        }
         if !progress {
             let p = found.iter().position(Option::is_none).unwrap_or(0);
             return Err(StageError::Unsupported(format!(
-                "surface patch {p} has no sub-triangle wide enough to sample and no sampled \
-                 neighbour in its face"
+                "surface patch {p} has no sub-triangle wide enough to sample and no classified \
+                 neighbour in its face or its coincident stack"
             )));
         }
     }
+}
+
+/// The winding numbers just in front of a sliver's face `T`, from the first classified patch
+/// of its coincident stack (`coincident` and `stack` from [`sliver_stack`]), or `None` when
+/// none is classified yet.
+///
+/// Why this is exact: a stack sub-triangle `r` of a coincident face `U` overlaps the sliver,
+/// and no surface crosses a patch or the sliver, so the winding numbers just off the plane are
+/// the same all over `r`'s patch and all over the sliver, hence the same on both. When `U`
+/// faces the way `T` does, in front of `U` is in front of `T`. Otherwise it is behind `T`, and going from there to the front crosses every
+/// coincident face `t` (those through the sliver, `U` and `T` among them), each changing its
+/// operand's winding number by `-σ(t)`, its orientation relative to `T`: the converse of the
+/// `back` that [`decide`] computes.
+fn front_from_stack(
+    input: &Input,
+    arr: &Arrangement,
+    patch_of: &[u32],
+    found: &[Option<Sample>],
+    coincident: &[(u32, i32)],
+    stack: &[u32],
+) -> Option<Vec<(u32, i32)>> {
+    let (r, known) = (stack.iter())
+        .find_map(|&r| (found[patch_of[r as usize] as usize].as_ref()).map(|known| (r, known)))?;
+    let mut front = known.front.clone();
+    let u = arr.source[r as usize];
+    let (_, facing) = *(coincident.iter())
+        .find(|e| e.0 == u)
+        .expect("a stack sub-triangle lies in a coincident face");
+    if facing < 0 {
+        for &(t, sigma) in coincident {
+            let k = input.operand[t as usize];
+            match front.iter_mut().find(|e| e.0 == k) {
+                Some(entry) => entry.1 -= sigma,
+                None => front.push((k, -sigma)),
+            }
+        }
+        front.retain(|e| e.1 != 0);
+        front.sort_unstable();
+    }
+    Some(front)
 }
 
 /// The coincident faces of sub-triangle `s`, found exactly, for a sliver no f64 point fits in:
