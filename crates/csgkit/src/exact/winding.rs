@@ -542,10 +542,10 @@ fn propagate_to_slivers(
 /// Why this is exact: a stack sub-triangle `r` of a coincident face `U` overlaps the sliver,
 /// and no surface crosses a patch or the sliver, so the winding numbers just off the plane are
 /// the same all over `r`'s patch and all over the sliver, hence the same on both. When `U`
-/// faces the way `T` does, in front of `U` is in front of `T`. Otherwise it is behind `T`, and going from there to the front crosses every
-/// coincident face `t` (those through the sliver, `U` and `T` among them), each changing its
-/// operand's winding number by `-σ(t)`, its orientation relative to `T`: the converse of the
-/// `back` that [`decide`] computes.
+/// faces the way `T` does, in front of `U` is in front of `T`. Otherwise it is behind `T`,
+/// and going from there to the front crosses every coincident face `t` (those through the
+/// sliver, `U` and `T` among them), each changing its operand's winding number by `-σ(t)`,
+/// its orientation relative to `T`: the converse of the `back` that [`decide`] computes.
 fn front_from_stack(
     input: &Input,
     arr: &Arrangement,
