@@ -313,36 +313,31 @@ pub(crate) fn select(
     progress: &Progress,
 ) -> Result<Kept, StageError> {
     let corners = |s: usize| arr.triangles[s].map(|v| arr.point(input, v));
-    // The first sub-triangle of each patch that holds a sample point.
+    // The first sub-triangle of each patch that holds a sample point: from the corners'
+    // approximations, then, for the patches left, from the corners rounded correctly (the
+    // same candidates where every corner is explicit).
     let mut samples: Vec<Option<(u32, SamplePoint)>> = vec![None; patch_count];
     let mut missing = patch_count;
-    for (s, &p) in patch_of.iter().enumerate() {
-        if missing == 0 {
-            break;
-        }
-        if samples[p as usize].is_some() {
-            continue;
-        }
-        if let Some(at) = sample_point(input, arr.source[s], &corners(s)) {
-            samples[p as usize] = Some((s as u32, at));
-            missing -= 1;
-        }
-    }
-    // The patches left, from correctly rounded corners.
-    for (s, &p) in patch_of.iter().enumerate() {
-        if missing == 0 {
-            break;
-        }
-        if samples[p as usize].is_some() {
-            continue;
-        }
-        let corners = corners(s);
-        if corners.iter().all(Point::is_explicit) {
-            continue; // the same candidates as above
-        }
-        if let Some(at) = sample_point_rounded(input, arr.source[s], &corners) {
-            samples[p as usize] = Some((s as u32, at));
-            missing -= 1;
+    for rounded in [false, true] {
+        for (s, &p) in patch_of.iter().enumerate() {
+            if missing == 0 {
+                break;
+            }
+            if samples[p as usize].is_some() {
+                continue;
+            }
+            let corners = corners(s);
+            let at = if !rounded {
+                sample_point(input, arr.source[s], &corners)
+            } else if corners.iter().all(Point::is_explicit) {
+                None
+            } else {
+                sample_point_rounded(input, arr.source[s], &corners)
+            };
+            if let Some(at) = at {
+                samples[p as usize] = Some((s as u32, at));
+                missing -= 1;
+            }
         }
     }
     let caster = RayCaster::new(input);
