@@ -141,6 +141,32 @@ impl Triangle {
         self.positions
     }
 
+    /// [`orient3d`] of the corners and `p`, whose vertex id is `v`: the side of the
+    /// triangle's plane `p` lies on. Two zeros the orientation filter cannot prove, and for
+    /// which [`orient3d`] takes its slow path, are decided here first, because touching solids
+    /// and CAD parts are full of them: `p` is a corner (by id; equal ids name one point), and
+    /// the triangle lies in an axis plane ([`Triangle::axis_level`]), where the side is a
+    /// comparison ([`side_of_axis_plane`]).
+    pub(crate) fn side(&self, v: u32, p: Point3) -> Sign {
+        if self.vertices.contains(&v) {
+            return Sign::Zero;
+        }
+        if let Some(level) = self.axis_level() {
+            return side_of_axis_plane(level, p[self.drop.index()], self.turn);
+        }
+        let [r, s, u] = self.positions;
+        orient3d(r, s, u, p)
+    }
+
+    /// The common coordinate of the three corners along [`Triangle::drop_axis`], when they
+    /// share it: the triangle then lies in that axis plane (and the drop axis is always that
+    /// axis, the only one along which the projection does not collapse).
+    pub(crate) fn axis_level(&self) -> Option<f64> {
+        let k = self.drop.index();
+        let level = self.positions[0][k];
+        (self.positions[1][k] == level && self.positions[2][k] == level).then_some(level)
+    }
+
     /// Edge `i` (from vertex `i` to vertex `i + 1 mod 3`) as a sorted vertex-id pair.
     pub fn edge(&self, i: usize) -> TriangleEdge {
         let (x, y) = (self.vertices[i], self.vertices[(i + 1) % 3]);
@@ -302,10 +328,22 @@ pub(crate) fn planes_separate(a: &Triangle, b: &Triangle) -> bool {
     one_side(&plane_signs(a, b)) || one_side(&plane_signs(b, a))
 }
 
-/// [`orient3d`] of each vertex of `t` against the plane of `other`.
+/// [`orient3d`] of each vertex of `t` against the plane of `other` ([`Triangle::side`]).
 fn plane_signs(t: &Triangle, other: &Triangle) -> [Sign; 3] {
-    let [r, s, u] = other.positions;
-    t.positions.map(|p| orient3d(r, s, u, p))
+    std::array::from_fn(|i| other.side(t.vertices[i], t.positions[i]))
+}
+
+/// [`orient3d`] of the corners of a triangle in the axis plane `x_k = level` and a point
+/// whose coordinate `k` is `coordinate`, where `turn` is the triangle's
+/// [`orient2d_projected`] along `k`: expanded along column `k`, the determinant is
+/// `(level - coordinate)` times that turn. Exact, with no arithmetic at all.
+pub(crate) fn side_of_axis_plane(level: f64, coordinate: f64, turn: Sign) -> Sign {
+    let below = match coordinate.partial_cmp(&level) {
+        Some(Ordering::Less) => Sign::Positive,
+        Some(Ordering::Greater) => Sign::Negative,
+        _ => Sign::Zero,
+    };
+    below.times(turn)
 }
 
 fn one_side(s: &[Sign; 3]) -> bool {

@@ -65,11 +65,9 @@
 //! the walk and the side tests cost about the same per triangle as building the tree. The
 //! output is the same for every thread count.
 
-use std::cmp::Ordering;
-
 use crate::par::{self, *};
 
-use super::intersect::{Intersection, Triangle, intersect_triangles};
+use super::intersect::{Intersection, Triangle, intersect_triangles, side_of_axis_plane};
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{Point3, Sign, orient2d, orient3d};
 use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces_partial, weld_positions};
@@ -345,11 +343,8 @@ impl Prepared {
     /// The plane of `triangle`.
     fn new(triangle: &Triangle) -> Prepared {
         let [p, q, r] = triangle.positions();
-        let aligned = (0..3).find(|&k| p[k] == q[k] && p[k] == r[k]).map(|k| {
-            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-            let turn = orient2d([p[u], p[v]], [q[u], q[v]], [r[u], r[v]]);
-            (k as u8, turn)
-        });
+        let aligned =
+            (triangle.axis_level()).map(|_| (triangle.drop_axis().index() as u8, triangle.turn()));
         let (pq, pr) = (sub(q, p), sub(r, p));
         let minors = [
             pq[0] * pr[1] - pq[1] * pr[0],
@@ -377,14 +372,8 @@ impl Prepared {
     fn side(&self, s: Point3) -> Sign {
         let [p, q, r] = self.corners;
         if let Some((axis, turn)) = self.aligned {
-            // `orient3d` is `(level - s[axis])` times the turn.
             let axis = usize::from(axis);
-            let below = match s[axis].partial_cmp(&p[axis]) {
-                Some(Ordering::Less) => Sign::Positive,
-                Some(Ordering::Greater) => Sign::Negative,
-                _ => Sign::Zero,
-            };
-            return below.times(turn);
+            return side_of_axis_plane(p[axis], s[axis], turn);
         }
         match self.filter(s) {
             (true, _) => Sign::Positive,

@@ -194,6 +194,16 @@ proptest! {
     }
 
     #[test]
+    fn side_is_orient3d(t in [small_point(), small_point(), small_point()],
+                        p in small_point(), corner in 0usize..4) {
+        // Grid points put many triangles in axis planes and many points on their planes;
+        // `corner` < 3 asks about a corner by its id.
+        let Some(tri) = Triangle::new(0, [0, 1, 2], t) else { return Ok(()); };
+        let (v, p) = if corner < 3 { (corner as u32, t[corner]) } else { (3, p) };
+        prop_assert_eq!(tri.side(v, p), orient3d(t[0], t[1], t[2], p));
+    }
+
+    #[test]
     fn vertex_on_edge_or_face(a in [small_point(), small_point(), small_point()],
                               b in [small_point(), small_point()],
                               w in [0u8..=2, 0u8..=2, 0u8..=2]) {
