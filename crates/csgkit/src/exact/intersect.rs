@@ -547,12 +547,16 @@ fn merged(
     contact(x, end.own, y, other, point)
 }
 
-/// Locates an input vertex in the plane of `t` on `t`: `None` outside.
+/// Locates vertex `i` of `x`, in the plane of `t`, on `t`: `None` outside.
 ///
 /// Like the rest of the coplanar case, on the projected f64 coordinates of input vertices:
-/// exact [`orient2d`], with no kernel [`Point`] built or copied.
-fn locate(p: Point3, t: &Triangle) -> Option<Feature> {
-    let p = t.drop.project(p);
+/// exact [`orient2d`], with no kernel [`Point`] built or copied. A vertex of `t` (by id) is
+/// that vertex without a test: coplanar triangles of touching solids share most of theirs.
+fn locate(x: &Triangle, i: usize, t: &Triangle) -> Option<Feature> {
+    if let Some(j) = t.vertices.iter().position(|&v| v == x.vertices[i]) {
+        return Some(Feature::Vertex(j));
+    }
+    let p = t.drop.project(x.positions[i]);
     let v = t.positions.map(|x| t.drop.project(x));
     let s = [0, 1, 2].map(|i| orient2d(v[i], v[(i + 1) % 3], p).times(t.turn));
     if s.contains(&Sign::Negative) {
@@ -570,8 +574,14 @@ fn locate(p: Point3, t: &Triangle) -> Option<Feature> {
     }
 }
 
-/// The proper crossing of edge `i` of `a` with edge `j` of coplanar `b`, if any.
+/// The proper crossing of edge `i` of `a` with edge `j` of coplanar `b`, if any. Edges with
+/// an end in common (by id) have none: that end is on both lines.
 fn edge_crossing(a: &Triangle, i: usize, b: &Triangle, j: usize) -> Option<Point> {
+    let ends = |t: &Triangle, k: usize| [t.vertices[k], t.vertices[(k + 1) % 3]];
+    let (ea, eb) = (ends(a, i), ends(b, j));
+    if ea.iter().any(|v| eb.contains(v)) {
+        return None;
+    }
     let e = [a.positions[i], a.positions[(i + 1) % 3]];
     let f = [b.positions[j], b.positions[(j + 1) % 3]];
     let [e0, e1, f0, f1] = [e[0], e[1], f[0], f[1]].map(|x| a.drop.project(x));
@@ -585,14 +595,14 @@ fn edge_crossing(a: &Triangle, i: usize, b: &Triangle, j: usize) -> Option<Point
 fn coplanar(a: &Triangle, b: &Triangle) -> Intersection {
     let mut corners = Vec::new();
     for i in 0..3 {
-        let p = a.positions[i];
-        if let Some(f) = locate(p, b) {
-            corners.push(contact(a, Boundary::Vertex(i), b, f, Point::Explicit(p)));
+        if let Some(f) = locate(a, i, b) {
+            let p = Point::Explicit(a.positions[i]);
+            corners.push(contact(a, Boundary::Vertex(i), b, f, p));
         }
     }
     for j in 0..3 {
         let p = b.positions[j];
-        match locate(p, a) {
+        match locate(b, j, a) {
             // Found from `a`'s side already.
             Some(Feature::Vertex(_)) | None => {}
             Some(f) => corners.push(swapped(contact(
