@@ -56,6 +56,7 @@ use std::cmp::Ordering;
 
 use crate::kernel::{
     Axis, Point, Point3, Sign, compare_along, compare_lex, orient2d, orient2d_projected, orient3d,
+    side_of_axis_plane,
 };
 
 /// A sorted pair of vertex ids: an edge, independent of the triangle that uses it.
@@ -331,19 +332,6 @@ pub(crate) fn planes_separate(a: &Triangle, b: &Triangle) -> bool {
 /// [`orient3d`] of each vertex of `t` against the plane of `other` ([`Triangle::side`]).
 fn plane_signs(t: &Triangle, other: &Triangle) -> [Sign; 3] {
     std::array::from_fn(|i| other.side(t.vertices[i], t.positions[i]))
-}
-
-/// [`orient3d`] of the corners of a triangle in the axis plane `x_k = level` and a point
-/// whose coordinate `k` is `coordinate`, where `turn` is the triangle's
-/// [`orient2d_projected`] along `k`: expanded along column `k`, the determinant is
-/// `(level - coordinate)` times that turn. Exact, with no arithmetic at all.
-pub(crate) fn side_of_axis_plane(level: f64, coordinate: f64, turn: Sign) -> Sign {
-    let below = match coordinate.partial_cmp(&level) {
-        Some(Ordering::Less) => Sign::Positive,
-        Some(Ordering::Greater) => Sign::Negative,
-        _ => Sign::Zero,
-    };
-    below.times(turn)
 }
 
 fn one_side(s: &[Sign; 3]) -> bool {

@@ -67,9 +67,9 @@
 
 use crate::par::{self, *};
 
-use super::intersect::{Intersection, Triangle, intersect_triangles, side_of_axis_plane};
+use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
-use crate::kernel::{Point3, Sign, orient2d, orient3d};
+use crate::kernel::{Point3, Sign, orient2d, orient3d, side_of_axis_plane};
 use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces_partial, weld_positions};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).

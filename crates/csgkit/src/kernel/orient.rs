@@ -118,6 +118,22 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
     orient3d_cascade(a, b, c, d)
 }
 
+/// [`orient3d`] of the corners of a triangle in the axis plane `x_k = level` and a point
+/// whose coordinate `k` is `coordinate`, where `turn` is the triangle's orientation projected
+/// along `k` ([`orient2d`] of coordinates `k + 1`, `k + 2`, the frame of
+/// [`Axis::project`](super::Axis::project)): expanded along column `k`, the determinant is
+/// `(level - coordinate)` times that turn. Exact, with no arithmetic at all: where the
+/// triangle is a face of a box or of a CAD part, the zeros that the orientation filter
+/// cannot prove cost nothing.
+pub fn side_of_axis_plane(level: f64, coordinate: f64, turn: Sign) -> Sign {
+    let below = match coordinate.partial_cmp(&level) {
+        Some(std::cmp::Ordering::Less) => Sign::Positive,
+        Some(std::cmp::Ordering::Greater) => Sign::Negative,
+        _ => Sign::Zero,
+    };
+    below.times(turn)
+}
+
 /// The bit span up to which [`orient2d`] evaluates its formula in plain f64: `2 (25 + 1) + 1 =
 /// 53`.
 const ORIENT2D_SPAN: i32 = 25;

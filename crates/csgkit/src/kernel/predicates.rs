@@ -12,7 +12,7 @@ use std::cmp::Ordering;
 use super::cascade::{decide, decide_or_zero, filter};
 use super::formulas::{AxisDiff, Det3, Det4, PlaneSide};
 use super::implicit::{Point, Point3};
-use super::{Axis, Sign, orient2d, orient3d};
+use super::{Axis, Sign, orient2d, orient3d, side_of_axis_plane};
 
 /// Which side of the plane of the explicit triangle `a, b, c` the point `d` lies on.
 ///
@@ -28,6 +28,17 @@ pub fn orient3d_plane(a: Point3, b: Point3, c: Point3, d: &Point) -> Sign {
         // Exact by construction, and the most common query of the intersect stage: a
         // crossing point against the triangle that made it. Saves the exact stages.
         return Sign::Zero;
+    }
+    // A triangle in an axis plane and a point whose coordinate there its definition fixes
+    // (a crossing on a face of a box, on the common top of two cubes turned about z): a
+    // comparison, where the point is often on the plane and only the exact stages could
+    // prove the zero.
+    let axis_plane = (0..3).find(|&k| a[k] == b[k] && a[k] == c[k]);
+    if let Some(x) = axis_plane.and_then(|k| d.known_coordinate(k).map(|x| (k, x))) {
+        let (k, x) = x;
+        let axis = [Axis::X, Axis::Y, Axis::Z][k];
+        let turn = orient2d(axis.project(a), axis.project(b), axis.project(c));
+        return side_of_axis_plane(a[k], x, turn);
     }
     decide(&PlaneSide { tri: [a, b, c], d }).times(d.w_sign())
 }
