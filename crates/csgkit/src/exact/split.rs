@@ -497,7 +497,8 @@ impl<'a> Cdt<'a> {
             // then crosses by the hundred (the overlay of two coplanar fans puts hundreds of
             // points on one triangle); Delaunay flips first keep the crossings few.
             let budget = 16 * cdt.tris.len() + 64;
-            cdt.flip_while(&coords, budget, Convexity::IfClear, delaunay_flip);
+            let all = cdt.edges(|_| true);
+            cdt.flip_while(&coords, budget, all, Convexity::IfClear, delaunay_flip);
         }
         for (s, seg) in segments.iter().enumerate() {
             cdt.insert_segment(s as u32, seg[0], seg[1])?;
@@ -528,12 +529,40 @@ impl<'a> Cdt<'a> {
             return;
         }
         let budget = 16 * self.tris.len() + 64;
-        self.flip_while(coords, budget, Convexity::IfClear, delaunay_flip);
-        self.flip_while(coords, budget, Convexity::Exact, |[pa, pb, pc, pd]| {
-            let now = usize::from(is_flat(pa, pb, pc)) + usize::from(is_flat(pb, pd, pc));
-            let after = usize::from(is_flat(pa, pb, pd)) + usize::from(is_flat(pa, pd, pc));
-            after < now
-        });
+        self.flip_while(
+            coords,
+            budget,
+            self.edges(|_| true),
+            Convexity::IfClear,
+            delaunay_flip,
+        );
+        // Only a quadrilateral with a flat triangle can lose one, so the phase starts from
+        // the edges of the flat triangles (the triangles a flip makes are queued anyway),
+        // not from every edge with four flatness tests each.
+        let flat = |t: &Tri| {
+            let [a, b, c] = t.v.map(|x| coords[x as usize]);
+            is_flat(a, b, c)
+        };
+        let seeds = self.edges(flat);
+        self.flip_while(
+            coords,
+            budget,
+            seeds,
+            Convexity::Exact,
+            |[pa, pb, pc, pd]| {
+                let now = usize::from(is_flat(pa, pb, pc)) + usize::from(is_flat(pb, pd, pc));
+                let after = usize::from(is_flat(pa, pb, pd)) + usize::from(is_flat(pa, pd, pc));
+                after < now
+            },
+        );
+    }
+
+    /// The edges `(triangle, side)` of the triangles `which` selects, in triangle order.
+    fn edges(&self, which: impl Fn(&Tri) -> bool) -> Vec<(u32, usize)> {
+        (self.tris.iter().enumerate())
+            .filter(|(_, t)| which(t))
+            .flat_map(|(t, _)| (0..3).map(move |i| (t as u32, i)))
+            .collect()
     }
 
     /// f64 approximations of every vertex in the 2D frame, for choices of shape.
@@ -548,13 +577,15 @@ impl<'a> Cdt<'a> {
             .collect()
     }
 
-    /// Flips edges while `wanted` says so and the budget lasts: for the quadrilateral
+    /// Flips edges, from `stack` (the last first) and the edges of the triangles each flip
+    /// makes, while `wanted` says so and the budget lasts: for the quadrilateral
     /// `[a, b, c, d]` of the triangles `a b c` and `d c b` (approximations), whether to
     /// replace the diagonal `b c` by `a d`.
     fn flip_while(
         &mut self,
         coords: &[[f64; 2]],
         mut budget: usize,
+        mut stack: Vec<(u32, usize)>,
         convexity: Convexity,
         wanted: impl Fn([[f64; 2]; 4]) -> bool,
     ) {
@@ -562,9 +593,6 @@ impl<'a> Cdt<'a> {
             Convexity::Exact => cdt.orient(a, b, c) == Sign::Positive,
             Convexity::IfClear => cdt.orient_if_clear(a, b, c) == Some(Sign::Positive),
         };
-        let mut stack: Vec<(u32, usize)> = (0..self.tris.len() as u32)
-            .flat_map(|t| (0..3).map(move |i| (t, i)))
-            .collect();
         while let Some((t, i)) = stack.pop() {
             if budget == 0 {
                 break;
