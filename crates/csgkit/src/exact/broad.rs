@@ -7,7 +7,7 @@
 //!
 //! Only triangles near where operands meet are indexed. Two operands: in the overlap of both
 //! operand boxes, each operand marks the cells of a coarse grid its triangles' boxes overlap
-//! ([`Occupancy`]), and a [`Bvh`] is built over each operand's triangles there that touch a
+//! ([`Occupancy`], cells about as large as the triangles), and a [`Bvh`] is built over each operand's triangles there that touch a
 //! cell the other marked (a pair whose boxes overlap shares such a cell); the two trees are
 //! walked against each other ([`Bvh::overlapping_filter_map`]), which drops whole subtrees of
 //! either side at once. On two offset 1 M-triangle spheres the overlap of the boxes holds
@@ -22,6 +22,9 @@ use crate::index::{Aabb, Bvh, CellSpan, Occupancy};
 
 use super::ingest::Input;
 use super::intersect::planes_separate;
+
+/// Triangles per operand whose boxes set the grid's cell size.
+const SIZE_SAMPLES: usize = 2048;
 
 /// The box of triangle `t`.
 pub(crate) fn triangle_box(input: &Input, t: usize) -> Aabb {
@@ -39,7 +42,10 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         let (a, b) = (input.operand_triangles(0), input.operand_triangles(1));
         let box_a = |s: usize| triangle_box(input, s + a.start);
         let box_b = |t: usize| triangle_box(input, t + b.start);
-        let side = Occupancy::side_for(a.len() + b.len());
+        // The triangles' size, from a few thousand of them spread over each operand.
+        let spread = |len: usize| (0..len).step_by(len.div_ceil(SIZE_SAMPLES).max(1));
+        let samples = (spread(a.len()).map(box_a)).chain(spread(b.len()).map(box_b));
+        let side = Occupancy::side_for(&region, samples);
         let ((cells_a, spans_a), (cells_b, spans_b)) = join(
             || Occupancy::of(&region, side, a.len(), box_a),
             || Occupancy::of(&region, side, b.len(), box_b),

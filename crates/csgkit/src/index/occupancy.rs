@@ -61,10 +61,29 @@ impl CellSpan {
 }
 
 impl Occupancy {
-    /// The grid side for sets of about `boxes` boxes in all: near one cell per box along a
-    /// surface (`√boxes` cells a side), at most [`MAX_SIDE`].
-    pub fn side_for(boxes: usize) -> usize {
-        (boxes as f64).sqrt().ceil().clamp(1.0, MAX_SIDE as f64) as usize
+    /// The grid side over `frame` at which a cell is about as large as the mean of the
+    /// `samples` boxes that overlap the frame (their longest sides, against the frame's
+    /// longest), at most [`MAX_SIDE`]: each box then covers a few cells, so marking and
+    /// reading cost a few bit operations per box, and a cell is still small enough to keep
+    /// only the boxes near another set's. Finer cells gain nothing (a box near the other set
+    /// is kept however fine the grid) and cost a cube of their ratio: two 1 k-triangle spheres
+    /// on a √n-cell grid covered about a hundred cells per triangle.
+    pub fn side_for(frame: &Aabb, samples: impl Iterator<Item = Aabb>) -> usize {
+        let longest = |b: &Aabb| (0..3).map(|k| b.max[k] - b.min[k]).fold(0.0, f64::max);
+        let (total, count) = (samples.filter(|b| b.overlaps(frame)))
+            .fold((0.0, 0usize), |(total, count), b| {
+                (total + longest(&b), count + 1)
+            });
+        if count == 0 {
+            return 1;
+        }
+        let cells = longest(frame) / (total / count as f64);
+        // NaN (a frame or boxes of no size) and infinity clamp like any other value.
+        if cells.is_nan() {
+            MAX_SIDE
+        } else {
+            cells.ceil().clamp(1.0, MAX_SIDE as f64) as usize
+        }
     }
 
     /// The cells of a `side`³ grid over `frame` (`side` at most [`MAX_SIDE`]) that the boxes
@@ -191,6 +210,26 @@ mod tests {
                 prop_assert!(!meets || touches, "{x:?} overlaps a marked box");
             }
         }
+    }
+
+    #[test]
+    fn side_makes_cells_about_as_large_as_the_boxes() {
+        let frame = Aabb {
+            min: [0.0; 3],
+            max: [2.0, 1.0, 1.0],
+        };
+        let cube = |at: f64, size: f64| Aabb {
+            min: [at; 3],
+            max: [at + size; 3],
+        };
+        let sized = |size: f64| (0..10).map(move |i| cube(f64::from(i) * 0.1, size));
+        assert_eq!(Occupancy::side_for(&frame, sized(0.1)), 20);
+        assert_eq!(Occupancy::side_for(&frame, sized(0.3)), 7);
+        assert_eq!(Occupancy::side_for(&frame, sized(1e-6)), MAX_SIDE);
+        // Boxes outside the frame say nothing about it.
+        let outside = (0..10).map(|_| cube(5.0, 1e-6));
+        assert_eq!(Occupancy::side_for(&frame, sized(0.1).chain(outside)), 20);
+        assert_eq!(Occupancy::side_for(&frame, std::iter::empty()), 1);
     }
 
     #[test]
