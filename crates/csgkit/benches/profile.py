@@ -32,7 +32,7 @@ DEFAULT_CASES = [
     "menger_2",
     "menger_3",
     "boxes_union_1000",
-    "models_bunny_watertight_minus_offset",
+    "model_bunny_watertight_minus_offset",
 ]
 
 TIERS = [
