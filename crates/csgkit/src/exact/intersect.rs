@@ -64,6 +64,10 @@ pub type TriangleEdge = [u32; 2];
 
 /// A non-degenerate triangle ready for [`intersect_triangles`]: an id (for [`PointKey`]), its
 /// vertex ids and positions, and a projection axis along which it does not collapse.
+///
+/// Vertex ids name points: two triangles that use one id must give it one position (the
+/// keys of the intersection points, and the answers for shared corners without arithmetic,
+/// rely on it), as a welded mesh's vertex indices do.
 #[derive(Clone, Copy, Debug)]
 pub struct Triangle {
     id: u32,
