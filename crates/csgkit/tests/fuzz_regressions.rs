@@ -186,3 +186,21 @@ fn openscad_inputs_found_by_fuzzing_read_or_fail_cleanly() {
         folder.display()
     );
 }
+
+/// (A ∪ B) ∪ C written as polygons: a face of the result merged from two triangles had two
+/// corners an ulp apart (intersection points that rounded to neighbours), and in the
+/// polygon's own projection (its Newell normal's, where readers triangulate it) its sides
+/// crossed, though the pieces are grown valid in the region's projection. A merged polygon
+/// that the triangulator rejects is now written as its certified triangles.
+#[test]
+fn boolean_writes_no_polygon_crossing_itself_in_its_own_projection() {
+    checks::solids::check_case(&solids_case(
+        "polygon_crossing_itself_in_its_own_projection",
+    ));
+}
+
+/// The same with two corners of a merged polygon at one point of its projection.
+#[test]
+fn boolean_writes_no_polygon_with_corners_projecting_together() {
+    checks::solids::check_case(&solids_case("polygon_with_corners_projecting_together"));
+}

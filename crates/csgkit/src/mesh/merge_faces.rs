@@ -10,7 +10,9 @@
 //!   of the input's triangles of one provenance and that the fan from its first corner
 //!   triangulates (so readers that fan polygons, as many do, read it right); a region with
 //!   holes, or that no corner sees whole, is cut into few such pieces along existing
-//!   triangle sides;
+//!   triangle sides; a piece that the one triangulator
+//!   ([`triangulate_faces`](super::triangulate_faces)) would reject in the polygon's own
+//!   projection (corners an ulp apart can turn a side there) stays as its triangles;
 //! - [`FaceMode::Quads`]: triangles and strictly convex quads, each quad two triangles of one
 //!   provenance, written from a corner of the side they share, so that the fan from its first
 //!   corner gives back those two triangles.
@@ -56,6 +58,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use crate::kernel::{Axis, Sign, orient2d};
 
 use super::numbering::FaceNumbering;
+use super::triangulate::is_valid_polygon;
 use super::vector::triangle_normal;
 use super::{Mesh, MeshParts, Provenance};
 
@@ -325,13 +328,23 @@ impl Region {
                 .collect(),
         };
         (pieces.into_iter())
-            .map(|(piece, apex)| {
+            .flat_map(|(piece, apex)| {
                 let mut polygon = self.boundary(&piece);
                 if let Some(at) = apex.and_then(|a| polygon.iter().position(|&v| v == a)) {
                     polygon.rotate_left(at);
                 }
+                if polygon.len() > 3 && !is_valid_polygon(positions, &polygon) {
+                    // Valid in the region's projection, where the pieces are grown, but not
+                    // in the polygon's own (its Newell normal's), where readers triangulate
+                    // it: corners an ulp apart, from intersection points that rounded to
+                    // neighbours, can turn a side the other way there. Its triangles, which
+                    // the engine certified, are written instead.
+                    return (piece.iter())
+                        .map(|&i| (self.faces[i as usize], self.triangles[i as usize].to_vec()))
+                        .collect();
+                }
                 let first = piece.iter().map(|&i| self.faces[i as usize]).min();
-                (first.expect("a piece has a triangle"), polygon)
+                vec![(first.expect("a piece has a triangle"), polygon)]
             })
             .collect()
     }

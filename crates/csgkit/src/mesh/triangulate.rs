@@ -337,6 +337,14 @@ pub fn triangulate_faces_partial(mesh: &Mesh) -> (Triangulation<'_>, Vec<Polygon
     (Triangulation { repr }, errors)
 }
 
+/// Whether the polygon `corners` is one this triangulator takes: the test a reader of the
+/// written face applies (`csgkit check` among them), for a writer that must not write a face
+/// it rejects.
+pub(crate) fn is_valid_polygon(positions: &[[f64; 3]], corners: &[u32]) -> bool {
+    let mut scratch = Polygons::with_capacity(corners.len().saturating_sub(2));
+    triangulate_face(positions, corners, FaceId::new(0), &mut scratch).is_ok()
+}
+
 /// Appends the triangles of one face (steps 1–5); on error, appends nothing.
 fn triangulate_face(
     positions: &[[f64; 3]],
