@@ -10,11 +10,11 @@
 //! ([`Occupancy`], cells about as large as the triangles), and a [`Bvh`] is built over each
 //! operand's triangles there that touch a cell the other marked (a pair whose boxes overlap
 //! shares such a cell); the two trees are walked against each other
-//! ([`Bvh::overlapping_filter_map`]), which drops whole subtrees of either side at once. On two offset 1 M-triangle spheres the overlap of the boxes holds
-//! 750 k triangles of each, of which the grid keeps the few near the intersection curve. More
-//! operands: one tree over every triangle that meets another operand's box, queried against
-//! itself, keeping pairs of different operands. Output order is deterministic (the BVH walks
-//! are), then sorted.
+//! ([`Bvh::overlapping_filter_map`]), which drops whole subtrees of either side at once. On
+//! two offset 1 M-triangle spheres the overlap of the boxes holds 750 k triangles of each, of
+//! which the grid keeps the few near the intersection curve. More operands: one tree over
+//! every triangle that meets another operand's box, queried against itself, keeping pairs of
+//! different operands. Output order is deterministic (the BVH walks are), then sorted.
 
 use crate::par::*;
 

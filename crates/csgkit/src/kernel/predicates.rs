@@ -33,12 +33,15 @@ pub fn orient3d_plane(a: Point3, b: Point3, c: Point3, d: &Point) -> Sign {
     // (a crossing on a face of a box, on the common top of two cubes turned about z): a
     // comparison, where the point is often on the plane and only the exact stages could
     // prove the zero.
-    let axis_plane = (0..3).find(|&k| a[k] == b[k] && a[k] == c[k]);
-    if let Some(x) = axis_plane.and_then(|k| d.known_coordinate(k).map(|x| (k, x))) {
-        let (k, x) = x;
-        let axis = [Axis::X, Axis::Y, Axis::Z][k];
+    let axis_plane = [Axis::X, Axis::Y, Axis::Z].into_iter().find(|axis| {
+        let k = axis.index();
+        a[k] == b[k] && a[k] == c[k]
+    });
+    if let Some((axis, x)) =
+        axis_plane.and_then(|axis| Some((axis, d.known_coordinate(axis.index())?)))
+    {
         let turn = orient2d(axis.project(a), axis.project(b), axis.project(c));
-        return side_of_axis_plane(a[k], x, turn);
+        return side_of_axis_plane(a[axis.index()], x, turn);
     }
     decide(&PlaneSide { tri: [a, b, c], d }).times(d.w_sign())
 }
