@@ -55,9 +55,12 @@
 //! says which vertices to test, and the sides decide (the cases are in `counts`).
 //! `Prepared::side` evaluates those signs exactly but cheaply: a comparison for a plane
 //! along an axis, CGAL's semi-static filter with per-plane minors otherwise, and the full
-//! predicate only when the filter cannot tell. Only pairs that cross or touch in a way the
-//! sides cannot settle (no shared vertex and each straddling the other's plane, or
-//! degenerate contacts) reach [`intersect_triangles`].
+//! predicate only when the filter cannot tell. Where it cannot (nearly coplanar pairs:
+//! pieces of one face of a boolean's result, cut apart and rounded, or coplanar faces of a
+//! model), `separated_in_projection` first tries to show with `orient2d`'s filter alone
+//! that the pair's projections meet only where the triangles share vertices. Only pairs
+//! that cross or touch in a way neither settles (no shared vertex and each straddling the
+//! other's plane, or degenerate contacts) reach [`intersect_triangles`].
 //!
 //! # Complexity
 //! O(n log n) for the hierarchy plus O(1) exact predicates per candidate pair; for a mesh
@@ -65,11 +68,16 @@
 //! the walk and the side tests cost about the same per triangle as building the tree. The
 //! output is the same for every thread count.
 
+use std::cell::OnceCell;
+
 use crate::par::{self, *};
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
-use crate::kernel::{Point3, Sign, orient2d, orient3d, side_of_axis_plane};
+use crate::kernel::{
+    Axis, Point3, Sign, orient2d, orient2d_filterable, orient2d_value_if_clear, orient3d,
+    side_of_axis_plane,
+};
 use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces_partial, weld_positions};
 
 /// The self-intersections of a mesh (see [`self_intersections`]).
@@ -239,11 +247,15 @@ fn counts<'t>(
     let in_a = |v: u32| u8::from((v == va[0]) | (v == va[1]) | (v == va[2]));
     let shared = in_a(vb[0]) | in_a(vb[1]) << 1 | in_a(vb[2]) << 2;
     let (pa, pb) = (a.corners, b.corners);
+    // Asked at most once, and only where exact work would follow.
+    let separated = OnceCell::new();
+    let is_separated = || *separated.get_or_init(|| separated_in_projection(a, b));
+    let side = |t: &Prepared, p: Point3| t.side_unless(p, is_separated);
     match shared.count_ones() {
         3 => false,
         2 => {
             let k = (!shared & 7).trailing_zeros() as usize;
-            a.side(pb[k]) == Sign::Zero && {
+            side(a, pb[k]) == Some(Sign::Zero) && {
                 let (ta, tb) = full();
                 folded_over(ta, tb)
             }
@@ -251,7 +263,9 @@ fn counts<'t>(
         1 => {
             // `b`'s corner at the shared vertex `vb[k]` is `vb[k], vb[k + 1], vb[k + 2]`.
             let k = shared.trailing_zeros() as usize;
-            let (s1, s2) = (a.side(pb[(k + 1) % 3]), a.side(pb[(k + 2) % 3]));
+            let (Some(s1), Some(s2)) = (side(a, pb[(k + 1) % 3]), side(a, pb[(k + 2) % 3])) else {
+                return false;
+            };
             if s1 == s2 {
                 return s1 == Sign::Zero && {
                     let (ta, tb) = full();
@@ -259,7 +273,9 @@ fn counts<'t>(
                 };
             }
             let j = usize::from(va[1] == vb[k]) + 2 * usize::from(va[2] == vb[k]);
-            let (t1, t2) = (b.side(pa[(j + 1) % 3]), b.side(pa[(j + 2) % 3]));
+            let (Some(t1), Some(t2)) = (side(b, pa[(j + 1) % 3]), side(b, pa[(j + 2) % 3])) else {
+                return false;
+            };
             if t1 == t2 && t1 != Sign::Zero {
                 return false;
             }
@@ -268,16 +284,71 @@ fn counts<'t>(
                 let corner = [pa[j], pa[(j + 1) % 3], pa[(j + 2) % 3]];
                 return chords_agree(corner, [pb[(k + 1) % 3], pb[(k + 2) % 3]], s1);
             }
-            let (ta, tb) = full();
-            by_classification(ta, tb, 1)
+            !is_separated() && {
+                let (ta, tb) = full();
+                by_classification(ta, tb, 1)
+            }
         }
         _ => {
-            !a.strictly_one_side(&pb) && !b.strictly_one_side(&pa) && {
+            let one_side = |t: &Prepared, points: &[Point3; 3]| match t.one_side_if_clear(points) {
+                Some(verdict) => verdict,
+                None => is_separated() || t.strictly_one_side_exact(points),
+            };
+            !one_side(a, &pb) && !one_side(b, &pa) && !is_separated() && {
                 let (ta, tb) = full();
                 by_classification(ta, tb, 0)
             }
         }
     }
+}
+
+/// Whether `a` and `b` meet only in what they share (no point, their common vertex, or their
+/// common edge), shown by their projections along `a`'s drop axis with `orient2d`'s f64
+/// filter alone; `false` where the filter cannot show it.
+///
+/// Why it holds: every common point of the triangles projects into both projections; if
+/// those meet only in the projection of the shared part, the point projects there, and the
+/// projection is one-to-one on `a`'s plane (`a`'s projected turn is never zero), so the point
+/// is in the shared part. In the plane, the projections meet only there when an edge line of
+/// one leaves every vertex of the other strictly on its outer side, but for vertices shared
+/// with that edge (the other triangle then touches the line only in those, which lie in the
+/// edge); the separating axis theorem gives such an edge for disjoint triangles, and for
+/// triangles sharing a vertex or an edge whose corners there do not overlap.
+///
+/// Why: the pairs the plane filter cannot decide are mostly pieces of one face, cut apart by
+/// the boolean and rounded (within rounding of each other's planes), or coplanar faces of a
+/// model. Their sides would take `orient3d`'s exact stages, and their contacts the full
+/// classification; in projection the same pairs are well shaped, and a few `orient2d`
+/// filters decide.
+fn separated_in_projection(a: &Prepared, b: &Prepared) -> bool {
+    let project = |t: &Prepared| t.corners.map(|p| a.drop.project(p));
+    let (pa, pb) = (project(a), project(b));
+    if !orient2d_filterable(&[pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]]) {
+        return false;
+    }
+    let turn_b = orient2d_value_if_clear(pb[0], pb[1], pb[2]).map(Sign::of);
+    an_edge_separates((pa, a.vertices, a.turn), (pb, b.vertices))
+        || turn_b.is_some_and(|turn| {
+            turn != Sign::Zero && an_edge_separates((pb, b.vertices, turn), (pa, a.vertices))
+        })
+}
+
+/// Whether an edge line of the projected triangle `t` (corners, vertex ids, turn) leaves
+/// every vertex of `u` (corners, vertex ids) strictly on its outer side, except the vertices
+/// of `u` that are ends of that edge. The coordinates are in the filter's range.
+fn an_edge_separates(
+    (t, t_ids, turn): ([[f64; 2]; 3], [u32; 3], Sign),
+    (u, u_ids): ([[f64; 2]; 3], [u32; 3]),
+) -> bool {
+    (0..3).any(|i| {
+        let (p, q) = (t[i], t[(i + 1) % 3]);
+        let (e0, e1) = (t_ids[i], t_ids[(i + 1) % 3]);
+        (0..3).all(|j| {
+            u_ids[j] == e0
+                || u_ids[j] == e1
+                || orient2d_value_if_clear(p, q, u[j]).is_some_and(|d| Sign::of(d) == turn.flip())
+        })
+    })
 }
 
 /// Two non-coplanar triangles share one vertex `v` and each has its other two vertices
@@ -330,6 +401,10 @@ struct Prepared {
     /// The axis `k` whose coordinate all three corners share, if any, and the turn of the
     /// corners projected along it ([`orient2d`] of coordinates `k + 1`, `k + 2`).
     aligned: Option<(u8, Sign)>,
+    /// The triangle's [`Triangle::drop_axis`] and [`Triangle::turn`], for
+    /// `separated_in_projection`.
+    drop: Axis,
+    turn: Sign,
 }
 
 /// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]).
@@ -364,22 +439,46 @@ impl Prepared {
             minors,
             scale,
             aligned,
+            drop: triangle.drop_axis(),
+            turn: triangle.turn(),
         }
     }
 
     /// The side of `s`: [`orient3d`] of the triangle's corners and `s`.
     #[inline]
     fn side(&self, s: Point3) -> Sign {
-        let [p, q, r] = self.corners;
+        self.side_if_clear(s).unwrap_or_else(|| self.side_exact(s))
+    }
+
+    /// The side of `s` where a comparison or the filter decides it, `None` elsewhere.
+    #[inline]
+    fn side_if_clear(&self, s: Point3) -> Option<Sign> {
         if let Some((axis, turn)) = self.aligned {
             let axis = usize::from(axis);
-            return side_of_axis_plane(p[axis], s[axis], turn);
+            return Some(side_of_axis_plane(self.corners[0][axis], s[axis], turn));
         }
         match self.filter(s) {
-            (true, _) => Sign::Positive,
-            (_, true) => Sign::Negative,
-            _ => orient3d(p, q, r, s),
+            (true, _) => Some(Sign::Positive),
+            (_, true) => Some(Sign::Negative),
+            _ => None,
         }
+    }
+
+    /// The side of `s`, unless the filter cannot decide it and `separated` (asked only then)
+    /// holds: the caller's way out of exact arithmetic.
+    #[inline]
+    fn side_unless(&self, s: Point3, separated: impl FnOnce() -> bool) -> Option<Sign> {
+        match self.side_if_clear(s) {
+            Some(sign) => Some(sign),
+            None if separated() => None,
+            None => Some(self.side_exact(s)),
+        }
+    }
+
+    /// The side of `s` by the full predicate.
+    fn side_exact(&self, s: Point3) -> Sign {
+        let [p, q, r] = self.corners;
+        orient3d(p, q, r, s)
     }
 
     /// The semi-static filter's verdict on `s`, without branches: whether [`orient3d`] is
@@ -398,18 +497,24 @@ impl Prepared {
         (certain & (det < -eps), certain & (det > eps))
     }
 
-    /// Whether the three points are strictly on one side of the plane. The filter judges
-    /// all three at once; the exact sides are needed only when it cannot tell.
-    fn strictly_one_side(&self, points: &[Point3; 3]) -> bool {
-        if self.aligned.is_none() {
-            let [x, y, z] = points.map(|s| self.filter(s));
-            if (x.0 & y.0 & z.0) | (x.1 & y.1 & z.1) {
-                return true;
-            }
-            if (x.0 | y.0 | z.0) & (x.1 | y.1 | z.1) {
-                return false;
-            }
+    /// Whether the three points are strictly on one side of the plane, where the comparison
+    /// or the filter decides it (it judges all three at once); `None` elsewhere.
+    fn one_side_if_clear(&self, points: &[Point3; 3]) -> Option<bool> {
+        if self.aligned.is_some() {
+            return Some(self.strictly_one_side_exact(points));
         }
+        let [x, y, z] = points.map(|s| self.filter(s));
+        if (x.0 & y.0 & z.0) | (x.1 & y.1 & z.1) {
+            return Some(true);
+        }
+        if (x.0 | y.0 | z.0) & (x.1 | y.1 | z.1) {
+            return Some(false);
+        }
+        None
+    }
+
+    /// Whether the three points are strictly on one side of the plane, by exact sides.
+    fn strictly_one_side_exact(&self, points: &[Point3; 3]) -> bool {
         let first = self.side(points[0]);
         first != Sign::Zero && self.side(points[1]) == first && self.side(points[2]) == first
     }
@@ -554,6 +659,51 @@ mod tests {
             let (pa, pb) = (Prepared::new(&ta), Prepared::new(&tb));
             prop_assert_eq!(counts(&pa, &pb, || (&ta, &tb)), by_classification(&ta, &tb, 1));
             prop_assert_eq!(counts(&pb, &pa, || (&tb, &ta)), by_classification(&tb, &ta, 1));
+        }
+    }
+
+    /// A point of the plane `z = 0.1 x + 0.3 y` rounded to f64: points of it are within
+    /// rounding of each other's planes, as the pieces of one rounded face are.
+    fn nearly_planar_point() -> impl Strategy<Value = Point3> {
+        [-4i32..=4, -4i32..=4].prop_map(|[x, y]| {
+            let (x, y) = (f64::from(x), f64::from(y));
+            [x, y, 0.1 * x + 0.3 * y]
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(3000))]
+
+        /// Pairs within rounding of one plane, which the plane filter cannot decide: the
+        /// projected separation only ever claims pairs the classification does not count,
+        /// and the whole test agrees with the classification.
+        #[test]
+        fn nearly_coplanar_pairs_agree_with_classification(
+            a in [nearly_planar_point(), nearly_planar_point(), nearly_planar_point()],
+            b in [nearly_planar_point(), nearly_planar_point(), nearly_planar_point()],
+            share in 0usize..=2,
+        ) {
+            let ids_b = [[3, 4, 5], [0, 4, 5], [1, 0, 5]][share];
+            let mut pb = b;
+            for (k, &id) in ids_b.iter().enumerate() {
+                if id < 3 {
+                    pb[k] = a[id as usize];
+                }
+            }
+            if (0..3).any(|k| ids_b[k] >= 3 && a.contains(&pb[k])) {
+                return Ok(());
+            }
+            let (Some(ta), Some(tb)) = (Triangle::new(0, [0, 1, 2], a), Triangle::new(1, ids_b, pb))
+            else {
+                return Ok(());
+            };
+            let (pa, pb) = (Prepared::new(&ta), Prepared::new(&tb));
+            let expected = by_classification(&ta, &tb, share);
+            if separated_in_projection(&pa, &pb) {
+                prop_assert!(!expected);
+            }
+            prop_assert_eq!(counts(&pa, &pb, || (&ta, &tb)), expected);
+            prop_assert_eq!(counts(&pb, &pa, || (&tb, &ta)), by_classification(&tb, &ta, share));
         }
     }
 

@@ -81,6 +81,14 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
     orient2d_cascade(a, b, c)
 }
 
+/// Whether [`orient2d`]'s f64 filter is sound on points with these coordinates: none so large
+/// or so small (but zero) that its products overflow or underflow.
+pub(crate) fn orient2d_filterable(points: &[[f64; 2]]) -> bool {
+    points
+        .iter()
+        .all(|p| in_robust_range(p[0]) & in_robust_range(p[1]))
+}
+
 /// Orientation of four points in space.
 ///
 /// [`Sign::Positive`] when `d` lies below the plane through `a, b, c` — the side from which
