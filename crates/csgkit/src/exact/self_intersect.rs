@@ -593,6 +593,31 @@ mod tests {
         [-2i32..=2, -2i32..=2, -2i32..=1].prop_map(|p| p.map(f64::from))
     }
 
+    /// Triangles `a` and `b` (ids 0–2 and 3–5), with `share` (0–2) of `b`'s vertices replaced
+    /// by `a`'s; `None` when either is degenerate, or when `welded` and an unshared vertex of
+    /// `b` sits on a vertex of `a` (distinct ids must then mean distinct positions).
+    fn sharing_pair(
+        a: [Point3; 3],
+        b: [Point3; 3],
+        share: usize,
+        welded: bool,
+    ) -> Option<(Triangle, Triangle)> {
+        let ids_b = [[3, 4, 5], [0, 4, 5], [1, 0, 5]][share];
+        let mut pb = b;
+        for (k, &id) in ids_b.iter().enumerate() {
+            if id < 3 {
+                pb[k] = a[id as usize];
+            }
+        }
+        if welded && (0..3).any(|k| ids_b[k] >= 3 && a.contains(&pb[k])) {
+            return None;
+        }
+        Some((
+            Triangle::new(0, [0, 1, 2], a)?,
+            Triangle::new(1, ids_b, pb)?,
+        ))
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(3000))]
 
@@ -603,15 +628,7 @@ mod tests {
             b in [small_point(), small_point(), small_point()],
             share in 0usize..=2,
         ) {
-            let ids_b = [[3, 4, 5], [0, 4, 5], [1, 0, 5]][share];
-            let mut pb = b;
-            for (k, &id) in ids_b.iter().enumerate() {
-                if id < 3 {
-                    pb[k] = a[id as usize];
-                }
-            }
-            let (Some(ta), Some(tb)) = (Triangle::new(0, [0, 1, 2], a), Triangle::new(1, ids_b, pb))
-            else {
+            let Some((ta, tb)) = sharing_pair(a, b, share, false) else {
                 return Ok(());
             };
             let (pa, pb) = (Prepared::new(&ta), Prepared::new(&tb));
@@ -683,18 +700,7 @@ mod tests {
             b in [nearly_planar_point(), nearly_planar_point(), nearly_planar_point()],
             share in 0usize..=2,
         ) {
-            let ids_b = [[3, 4, 5], [0, 4, 5], [1, 0, 5]][share];
-            let mut pb = b;
-            for (k, &id) in ids_b.iter().enumerate() {
-                if id < 3 {
-                    pb[k] = a[id as usize];
-                }
-            }
-            if (0..3).any(|k| ids_b[k] >= 3 && a.contains(&pb[k])) {
-                return Ok(());
-            }
-            let (Some(ta), Some(tb)) = (Triangle::new(0, [0, 1, 2], a), Triangle::new(1, ids_b, pb))
-            else {
+            let Some((ta, tb)) = sharing_pair(a, b, share, true) else {
                 return Ok(());
             };
             let (pa, pb) = (Prepared::new(&ta), Prepared::new(&tb));
