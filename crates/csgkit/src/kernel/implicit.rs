@@ -9,6 +9,7 @@
 //! point whose `W` is exactly zero does not exist and is refused.
 
 use std::cell::RefCell;
+use std::collections::hash_map::Entry;
 
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
@@ -387,23 +388,26 @@ impl Homogeneous for Point {
         let key: HomKey = self.coords().iter().map(|x| x.to_bits()).collect();
         EXACT_HOM.with(|cache| {
             let mut cache = cache.borrow_mut();
-            if !cache.contains_key(&key) {
-                let one = Expansion::exact(1.0);
-                let hom = self.hom(&Expansion::exact, &one);
-                // A product that may have underflowed unscaled: the caller's scaled inputs
-                // decide instead.
-                if hom.iter().any(|h| h.sign().is_none()) {
-                    return None;
-                }
-                if cache.len() >= EXACT_HOM_CAPACITY {
-                    cache.clear();
-                }
-                cache.insert(key.clone(), hom.map(|h| h.compressed()));
+            if cache.len() >= EXACT_HOM_CAPACITY && !cache.contains_key(&key) {
+                cache.clear();
             }
+            // One hash of the key, hit or miss.
+            let [x, y, z, w] = match cache.entry(key) {
+                Entry::Occupied(found) => found.into_mut(),
+                Entry::Vacant(slot) => {
+                    let one = Expansion::exact(1.0);
+                    let hom = self.hom(&Expansion::exact, &one);
+                    // A product that may have underflowed unscaled: the caller's scaled
+                    // inputs decide instead.
+                    if hom.iter().any(|h| h.sign().is_none()) {
+                        return None;
+                    }
+                    slot.insert(hom.map(|h| h.compressed()))
+                }
+            };
             // Inputs scaled by 2^s scale a coordinate of degree d by 2^(s d); W has the
             // degree of the point's definition, X, Y and Z one more.
             let w_degree = self.w_degree() as i32;
-            let [x, y, z, w] = &cache[&key];
             Some([
                 x.scaled_by_pow2(scale * (w_degree + 1))?,
                 y.scaled_by_pow2(scale * (w_degree + 1))?,
