@@ -326,11 +326,10 @@ fn separated_in_projection(a: &Prepared, b: &Prepared) -> bool {
     if !orient2d_filterable(&[pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]]) {
         return false;
     }
-    let turn_b = orient2d_value_if_clear(pb[0], pb[1], pb[2]).map(Sign::of);
+    let turn_b = (orient2d_value_if_clear(pb[0], pb[1], pb[2]).map(Sign::of))
+        .filter(|&turn| turn != Sign::Zero);
     an_edge_separates((pa, a.vertices, a.turn), (pb, b.vertices))
-        || turn_b.is_some_and(|turn| {
-            turn != Sign::Zero && an_edge_separates((pb, b.vertices, turn), (pa, a.vertices))
-        })
+        || turn_b.is_some_and(|turn| an_edge_separates((pb, b.vertices, turn), (pa, a.vertices)))
 }
 
 /// Whether an edge line of the projected triangle `t` (corners, vertex ids, turn) leaves

@@ -56,7 +56,7 @@ fn in_robust_range(x: f64) -> bool {
 /// triangle), [`Sign::Negative`] when to the right, [`Sign::Zero`] when collinear. Exact for
 /// all finite inputs.
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
-    let in_range = a.iter().chain(&b).chain(&c).all(|&x| in_robust_range(x));
+    let in_range = orient2d_filterable(&[a, b, c]);
     if let Some(sign) = in_range.then(|| orient2d_filter(a, b, c)).flatten() {
         return sign;
     }
@@ -83,10 +83,9 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
 
 /// Whether [`orient2d`]'s f64 filter is sound on points with these coordinates: none so large
 /// or so small (but zero) that its products overflow or underflow.
+#[inline]
 pub(crate) fn orient2d_filterable(points: &[[f64; 2]]) -> bool {
-    points
-        .iter()
-        .all(|p| in_robust_range(p[0]) & in_robust_range(p[1]))
+    points.as_flattened().iter().all(|&x| in_robust_range(x))
 }
 
 /// Orientation of four points in space.
