@@ -48,14 +48,16 @@ impl From<Cancelled> for StageError {
     }
 }
 
-/// What one intersecting pair puts on one of its triangles.
-// Points and segments are about equally many, so boxing the point would only add an
-// allocation per mark.
-#[allow(clippy::large_enum_variant)]
+/// What one intersecting pair puts on one of its triangles. A mark names points by key only:
+/// an implicit point is a few hundred bytes, a key at most 20, and the marks of two
+/// triangles and the points of one pair are kept apart ([`Contacts`]), so each point is
+/// stored once per pair that finds it, not once per mark. On two cubes the marks were most
+/// of the operation's fresh memory, and first touches of fresh pages cost a few
+/// microseconds each.
 #[derive(Clone, Copy, Debug)]
 enum Mark {
-    /// A contact point.
-    Point(PointKey, Point),
+    /// A contact point: an input vertex, or one of the pair's [`Contacts::points`].
+    Point(PointKey),
     /// A contact segment between two points, on the line where `Support` meets the triangle.
     Segment(PointKey, PointKey, Support),
 }
@@ -77,6 +79,17 @@ pub(crate) struct Contacts {
     pub intersecting_pairs: usize,
     /// `(triangle, mark)`, sorted by triangle.
     marks: Vec<(u32, Mark)>,
+    /// The contact points that are not input vertices, as found by each pair, in pair
+    /// order: a point found by several pairs is here once for each.
+    points: Vec<(PointKey, Point)>,
+}
+
+/// What one intersecting pair found.
+struct PairContacts {
+    /// The marks on both triangles.
+    marks: Vec<(u32, Mark)>,
+    /// The contact points that are not input vertices.
+    points: Vec<(PointKey, Point)>,
 }
 
 /// Intersects every candidate pair exactly, reporting pairs done to `progress`.
@@ -89,40 +102,59 @@ pub(crate) fn intersect_pairs(
     progress: &Progress,
 ) -> Result<Contacts, Cancelled> {
     let counter = progress.counter(Stage::Intersect, pairs.len());
-    let found: Vec<Vec<(u32, Mark)>> = counter.par_chunks(pairs, |chunk, out| {
+    let found: Vec<PairContacts> = counter.par_chunks(pairs, |chunk, out| {
         out.extend(chunk.iter().filter_map(|&(s, t)| {
             let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
-            let marks = marks_of(a, b, intersect_triangles(a, b));
-            (!marks.is_empty()).then_some(marks)
+            contacts_of(a, b, intersect_triangles(a, b))
         }));
     });
     counter.finish()?;
     let intersecting_pairs = found.len();
-    // Grouped by triangle, and within a triangle in pair order, which is deterministic. The
-    // small `(triangle, pair, position)` keys are sorted and each mark (a few hundred bytes)
-    // moves once, from its pair's list to its place, where sorting the marks themselves
-    // would move each of them log n times (and flattening the lists first, once more).
+    // Grouped by triangle, and within a triangle in pair order, which is deterministic: the
+    // `(triangle, pair, position)` keys are sorted, and each mark moves once, from its
+    // pair's list to its place.
     let mut order: Vec<(u32, u32, u32)> = (found.iter().enumerate())
-        .flat_map(|(pair, marks)| {
-            (marks.iter().enumerate()).map(move |(i, m)| (m.0, pair as u32, i as u32))
+        .flat_map(|(pair, contacts)| {
+            (contacts.marks.iter().enumerate()).map(move |(i, m)| (m.0, pair as u32, i as u32))
         })
         .collect();
     order.par_sort_unstable();
     let marks = (order.iter())
-        .map(|&(_, pair, i)| found[pair as usize][i as usize])
+        .map(|&(_, pair, i)| found[pair as usize].marks[i as usize])
         .collect();
+    let points = found.into_iter().flat_map(|f| f.points).collect();
     Ok(Contacts {
         intersecting_pairs,
         marks,
+        points,
+    })
+}
+
+/// What an intersection of triangles `a` and `b` puts on each of them; `None` when they are
+/// disjoint.
+fn contacts_of(a: &Triangle, b: &Triangle, intersection: Intersection) -> Option<PairContacts> {
+    let contacts: &[Contact] = match &intersection {
+        Intersection::Disjoint => return None,
+        Intersection::TouchingPoint(c) => std::slice::from_ref(c),
+        Intersection::TouchingSegment(ends) | Intersection::Crossing(ends) => ends,
+        Intersection::CoplanarOverlap(corners) => corners,
+    };
+    let points = (contacts.iter())
+        .filter(|c| !matches!(c.key, PointKey::Vertex(_)))
+        .map(|c| (c.key, c.point))
+        .collect();
+    Some(PairContacts {
+        marks: marks_of(a, b, &intersection),
+        points,
     })
 }
 
 /// The marks an intersection of triangles `a` and `b` puts on each of them.
-fn marks_of(a: &Triangle, b: &Triangle, intersection: Intersection) -> Vec<(u32, Mark)> {
+fn marks_of(a: &Triangle, b: &Triangle, intersection: &Intersection) -> Vec<(u32, Mark)> {
     let (s, t) = (a.id(), b.id());
-    let point = |c: &Contact| Mark::Point(c.key, c.point);
+    let point = |c: &Contact| Mark::Point(c.key);
     let both = |mark: Mark| [(s, mark), (t, mark)];
-    match intersection {
+    match *intersection {
         Intersection::Disjoint => Vec::new(),
         Intersection::TouchingPoint(c) => Vec::from(both(point(&c))),
         Intersection::TouchingSegment([c, d]) | Intersection::Crossing([c, d]) => {
@@ -140,7 +172,7 @@ fn marks_of(a: &Triangle, b: &Triangle, intersection: Intersection) -> Vec<(u32,
             marks.push((t, Mark::Segment(c.key, d.key, on_a)));
             marks
         }
-        Intersection::CoplanarOverlap(corners) => {
+        Intersection::CoplanarOverlap(ref corners) => {
             let mut marks: Vec<(u32, Mark)> = corners.iter().flat_map(|c| both(point(c))).collect();
             for (i, c) in corners.iter().enumerate() {
                 let d = &corners[(i + 1) % corners.len()];
@@ -215,7 +247,8 @@ pub(crate) fn split(
     progress: &Progress,
 ) -> Result<Arrangement, StageError> {
     let marks = contacts.marks;
-    let (ids, points) = number_points(input.positions.len(), &marks);
+    let (ids, points) = number_points(input.positions.len(), &contacts.points);
+    drop(contacts.points);
     let groups: Vec<&[(u32, Mark)]> = marks.chunk_by(|x, y| x.0 == y.0).collect();
     let counter = progress.counter(Stage::Split, groups.len());
     let splits: Vec<Result<TriangleSplit, StageError>> =
@@ -267,7 +300,7 @@ pub(crate) fn split(
     }
     let mut contact_vertices: Vec<(u32, u32)> = (marks.iter())
         .filter_map(|&(t, m)| match m {
-            Mark::Point(PointKey::Vertex(v), _) => Some((v, input.operand[t as usize])),
+            Mark::Point(PointKey::Vertex(v)) => Some((v, input.operand[t as usize])),
             _ => None,
         })
         .collect();
@@ -288,7 +321,7 @@ pub(crate) fn split(
 /// gets the next id, in key order (deterministic).
 fn number_points(
     vertex_count: usize,
-    marks: &[(u32, Mark)],
+    found: &[(PointKey, Point)],
 ) -> (FxHashMap<PointKey, u32>, Vec<Point>) {
     // Keys with references to their points: the sort moves small tuples, not the points.
     // Triangle pairs that find one point may define it differently (an edge's line from
@@ -298,13 +331,8 @@ fn number_points(
     // against 33 M with the first found), then the first found. A total order, so every
     // build keeps the same one (rayon's and the standard library's unstable sorts order ties
     // differently).
-    let mut keyed: Vec<(PointKey, f64, usize, &Point)> = (marks.iter().enumerate())
-        .filter_map(|(index, (_, m))| match m {
-            Mark::Point(key, point) if !matches!(key, PointKey::Vertex(_)) => {
-                Some((*key, enclosure_size(point), index, point))
-            }
-            _ => None,
-        })
+    let mut keyed: Vec<(PointKey, f64, usize, &Point)> = (found.iter().enumerate())
+        .map(|(index, (key, point))| (*key, enclosure_size(point), index, point))
         .collect();
     keyed.par_sort_unstable_by(|x, y| {
         (x.0.cmp(&y.0))
@@ -421,7 +449,7 @@ fn split_one(
         .collect();
     let mut points = Vec::new();
     for (_, mark) in group {
-        if let Mark::Point(key, point) = mark {
+        if let Mark::Point(key) = mark {
             let g = global_id(key, ids);
             local_of.entry(g).or_insert_with(|| {
                 global.push(g);
@@ -429,7 +457,7 @@ fn split_one(
                 let n = input.positions.len();
                 points.push(match (g as usize).checked_sub(n) {
                     Some(i) => contact_points[i],
-                    None => *point,
+                    None => Point::Explicit(input.positions[g as usize]),
                 });
                 (global.len() - 1) as u32
             });
@@ -609,9 +637,9 @@ mod tests {
     use super::*;
 
     /// One crossing found twice, its edge's line taken from either end: both orders of the
-    /// marks keep the same definition, the one the filter encloses tighter.
+    /// finds keep the same definition, the one the filter encloses tighter.
     #[test]
-    fn a_point_keeps_one_definition_whatever_the_order_of_its_marks() {
+    fn a_point_keeps_one_definition_whatever_order_it_is_found_in() {
         let plane = [[0.0, 0.0, 0.1], [1.0, 0.0, 0.3], [0.0, 1.0, 0.2]];
         let (s, t) = ([0.3, 0.2, -1.0], [0.35, 0.21, 1.7]);
         let crossing = |p, q| Point::lpi(p, q, plane[0], plane[1], plane[2]).expect("crosses");
@@ -625,9 +653,8 @@ mod tests {
             edge: [3, 4],
             triangle: 7,
         };
-        let mark = |p: Point| (0, Mark::Point(key, p));
-        let (ids, kept) = number_points(5, &[mark(forward), mark(backward)]);
-        let (ids_reversed, kept_reversed) = number_points(5, &[mark(backward), mark(forward)]);
+        let (ids, kept) = number_points(5, &[(key, forward), (key, backward)]);
+        let (ids_reversed, kept_reversed) = number_points(5, &[(key, backward), (key, forward)]);
         assert_eq!((ids[&key], ids_reversed[&key]), (5, 5));
         assert_eq!((kept.len(), kept_reversed.len()), (1, 1));
         assert_eq!(format!("{:?}", kept[0]), format!("{:?}", kept_reversed[0]));
