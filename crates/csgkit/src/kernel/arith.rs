@@ -1,7 +1,8 @@
 //! The four number types of the predicate cascade behind one trait, so that each polynomial
 //! is written once: [`Interval`] (filter), [`Wide`] (128-bit integers, exact while no
 //! operation overflows), [`Expansion`] (exact while no product underflows or overflows) and
-//! [`Big`] (exact big integers, for every finite input).
+//! [`Big`] (exact big integers, for every finite input); and [`Fixed`] (384-bit integers,
+//! exact while no operation overflows), which rounding tries before [`Big`].
 
 use num_bigint::BigInt;
 
@@ -125,6 +126,62 @@ impl Wide {
         let shift = e - e_min;
         // |m| < 2^53, so a shift of at most 73 stays below 2^126.
         Wide((shift <= 73).then(|| i128::from(m) << shift))
+    }
+}
+
+/// The fixed-width integer type of [`Fixed`]: 384 bits, signed.
+pub(crate) type Int384 = bnum::BInt<6>;
+
+/// An exact integer in 384 bits, scaled like [`Big`], or `None` once an operation overflowed
+/// (every later result is then `None`, and the caller uses [`Big`]). Rounding an output
+/// vertex evaluates its homogeneous coordinates and divides three of them by the fourth:
+/// with inputs of ordinary exponent spans these fit in 384 bits, and there each operation
+/// is a few dozen word operations where a big integer allocates.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Fixed(Option<Int384>);
+
+impl Arith for Fixed {
+    #[inline]
+    fn add(&self, o: &Self) -> Self {
+        Fixed(self.0.zip(o.0).and_then(|(a, b)| a.checked_add(b)))
+    }
+    #[inline]
+    fn sub(&self, o: &Self) -> Self {
+        Fixed(self.0.zip(o.0).and_then(|(a, b)| a.checked_sub(b)))
+    }
+    #[inline]
+    fn mul(&self, o: &Self) -> Self {
+        Fixed(self.0.zip(o.0).and_then(|(a, b)| a.checked_mul(b)))
+    }
+    #[inline]
+    fn sign(&self) -> Option<Sign> {
+        self.0.map(|v| match v.cmp(&Int384::ZERO) {
+            std::cmp::Ordering::Less => Sign::Negative,
+            std::cmp::Ordering::Equal => Sign::Zero,
+            std::cmp::Ordering::Greater => Sign::Positive,
+        })
+    }
+}
+
+impl Fixed {
+    /// The constant 1 (the `W` of an explicit point; not scaled).
+    pub(crate) const ONE: Fixed = Fixed(Some(Int384::ONE));
+
+    /// `x * 2^-e_min` as an integer, `None` when it does not fit in 382 bits; `e_min` must not
+    /// exceed the exponent of `x`'s lowest bit.
+    pub(crate) fn scaled(x: f64, e_min: i32) -> Self {
+        let (m, e) = decompose(x);
+        if m == 0 {
+            return Fixed(Some(Int384::ZERO));
+        }
+        let shift = e - e_min;
+        // |m| < 2^53, so a shift of at most 329 stays below 2^382.
+        Fixed((shift <= 329).then(|| Int384::from(m) << shift as u32))
+    }
+
+    /// The integer, `None` after an overflow.
+    pub(crate) fn value(&self) -> Option<&Int384> {
+        self.0.as_ref()
     }
 }
 

@@ -1,14 +1,17 @@
 //! Rounding an implicit point to the nearest f64 coordinates: once per output vertex, in the
 //! assemble stage of the exact engine.
 //!
-//! The homogeneous coordinates are evaluated exactly with big integers (every input scaled by
-//! the same power of two), and each quotient `X / W` is rounded to nearest, ties to even, by
-//! one big-integer division with a sticky bit. A point whose coordinates are representable
-//! (a crossing on an axis-aligned plane, say) therefore comes out exactly.
+//! The homogeneous coordinates are evaluated exactly with integers (every input scaled by the
+//! same power of two), and each quotient `X / W` is rounded to nearest, ties to even, by one
+//! integer division with a sticky bit. A point whose coordinates are representable (a
+//! crossing on an axis-aligned plane, say) therefore comes out exactly. The integers are
+//! 384-bit ([`Fixed`]) where they fit, which is every point whose inputs span an ordinary
+//! range of exponents, and big integers otherwise.
 
-use num_bigint::BigInt;
+use num_bigint::BigUint;
+use num_integer::Integer;
 
-use super::arith::{Big, decompose};
+use super::arith::{Big, Fixed, Int384, decompose};
 use super::cascade::Homogeneous;
 use super::implicit::{Point, Point3};
 
@@ -17,21 +20,7 @@ pub(crate) fn round_point(p: &Point) -> Point3 {
     if let Point::Explicit(x) = p {
         return *x;
     }
-    let ([x, y, z, w], e_low) = exact_hom(p);
-    [x, y, z].map(|n| quotient(n.value(), w.value(), e_low).0)
-}
-
-/// The homogeneous coordinates of `p` as exact integers, every input scaled by `2^-e_low`
-/// (the lowest bit of any input), and `e_low`. Coordinates are `X / W * 2^e_low`: `X` has one
-/// input degree more than `W`.
-fn exact_hom(p: &Point) -> ([Big; 4], i32) {
-    let e_low = (p.coords().iter())
-        .filter(|&&x| x != 0.0)
-        .map(|&x| decompose(x).1)
-        .min()
-        .unwrap_or(0);
-    let conv = |x: f64| Big::scaled(x, e_low);
-    (p.hom(&conv, &Big::one()), e_low)
+    quotients(p).map(|(value, _)| value)
 }
 
 /// `p` as an explicit point when its exact coordinates are f64 numbers, else `p`.
@@ -39,7 +28,7 @@ fn exact_hom(p: &Point) -> ([Big; 4], i32) {
 /// Intersection points of inputs on a grid (integer boxes, voxel models) usually are; as
 /// explicit points every later predicate on them takes the fast path. Only points whose
 /// rounded coordinates are short binary numbers (at least 16 trailing zero bits) are tried,
-/// so the big-integer test is skipped for points in general position.
+/// so the exact test is skipped for points in general position.
 pub fn simplify(p: Point) -> Point {
     if p.is_explicit() {
         return p;
@@ -52,38 +41,98 @@ pub fn simplify(p: Point) -> Point {
     if !p.approx().iter().all(|&x| x.is_finite() && short(x)) {
         return p;
     }
-    let ([x, y, z, w], e_low) = exact_hom(&p);
-    let exact = |n: &Big| {
-        let (value, exact) = quotient(n.value(), w.value(), e_low);
-        exact.then_some(value)
-    };
-    match (exact(&x), exact(&y), exact(&z)) {
-        (Some(x), Some(y), Some(z)) => Point::Explicit([x, y, z]),
+    match quotients(&p) {
+        [(x, true), (y, true), (z, true)] => Point::Explicit([x, y, z]),
         _ => p,
     }
 }
 
-/// `n / d * 2^e` rounded to the nearest f64, ties to even, and whether that was exact; `d`
-/// nonzero. The result is assumed to be a normal number or zero (intersection points lie
-/// among finite inputs).
-fn quotient(n: &BigInt, d: &BigInt, e: i32) -> (f64, bool) {
-    use num_bigint::Sign;
-    if n.sign() == Sign::NoSign {
-        return (0.0, true);
-    }
-    let negative = (n.sign() == Sign::Minus) != (d.sign() == Sign::Minus);
-    let (n, d) = (n.magnitude(), d.magnitude());
-    // Scale so that the integer quotient has 55 or 56 bits: 53 kept, one to round, one spare.
-    let k = 55 + d.bits() as i64 - n.bits() as i64;
-    let (q, r) = if k >= 0 {
-        let num = n << (k as u64);
-        (&num / d, &num % d)
-    } else {
-        let den = d << ((-k) as u64);
-        (n / &den, n % &den)
+/// Each coordinate of `p` rounded to the nearest f64, and whether that was exact: in 384-bit
+/// integers where the homogeneous coordinates and the scaled quotients fit, else in big
+/// integers.
+fn quotients(p: &Point) -> [(f64, bool); 3] {
+    // Every input times `2^-e_low`, the lowest bit of any input: coordinates are
+    // `X / W * 2^e_low` (`X` has one input degree more than `W`).
+    let e_low = (p.coords().iter())
+        .filter(|&&x| x != 0.0)
+        .map(|&x| decompose(x).1)
+        .min()
+        .unwrap_or(0);
+    let conv = |x: f64| Fixed::scaled(x, e_low);
+    let [x, y, z, w] = p.hom(&conv, &Fixed::ONE);
+    let fixed = |n: &Fixed| {
+        let (n, d) = (n.value()?, w.value()?);
+        quotient(&n.unsigned_abs(), &d.unsigned_abs(), negative(n, d), e_low)
     };
-    let sticky = r.bits() > 0;
-    let q: u64 = q.try_into().expect("the quotient has at most 56 bits");
+    if let (Some(x), Some(y), Some(z)) = (fixed(&x), fixed(&y), fixed(&z)) {
+        return [x, y, z];
+    }
+    let conv = |x: f64| Big::scaled(x, e_low);
+    let [x, y, z, w] = p.hom(&conv, &Big::one());
+    [x, y, z].map(|n| {
+        let (n, d) = (n.value(), w.value());
+        let negative =
+            (n.sign() == num_bigint::Sign::Minus) != (d.sign() == num_bigint::Sign::Minus);
+        quotient(n.magnitude(), d.magnitude(), negative, e_low)
+            .expect("big integers do not overflow")
+    })
+}
+
+/// Whether `n / d` is negative.
+fn negative(n: &Int384, d: &Int384) -> bool {
+    !n.is_zero() && n.is_negative() != d.is_negative()
+}
+
+/// The unsigned integers [`quotient`] divides: big, and 384-bit.
+trait Magnitude: Integer + Clone {
+    fn bit_length(&self) -> u64;
+    /// `self * 2^k`, `None` if it does not fit.
+    fn shifted(&self, k: u64) -> Option<Self>;
+    /// The value, known to fit in 64 bits.
+    fn low_u64(&self) -> u64;
+}
+
+impl Magnitude for BigUint {
+    fn bit_length(&self) -> u64 {
+        self.bits()
+    }
+    fn shifted(&self, k: u64) -> Option<Self> {
+        Some(self << k)
+    }
+    fn low_u64(&self) -> u64 {
+        u64::try_from(self).expect("the quotient has at most 56 bits")
+    }
+}
+
+impl Magnitude for bnum::BUint<6> {
+    fn bit_length(&self) -> u64 {
+        u64::from(self.bits())
+    }
+    fn shifted(&self, k: u64) -> Option<Self> {
+        (self.bit_length() + k <= 384).then(|| *self << k as u32)
+    }
+    fn low_u64(&self) -> u64 {
+        u64::try_from(*self).expect("the quotient has at most 56 bits")
+    }
+}
+
+/// `n / d * 2^e` (negated when `negative`) rounded to the nearest f64, ties to even, and
+/// whether that was exact; `d` nonzero; `None` when a fixed-width operand overflowed. The
+/// result is assumed to be a normal number or zero (intersection points lie among finite
+/// inputs).
+fn quotient<M: Magnitude>(n: &M, d: &M, negative: bool, e: i32) -> Option<(f64, bool)> {
+    if n.is_zero() {
+        return Some((0.0, true));
+    }
+    // Scale so that the integer quotient has 55 or 56 bits: 53 kept, one to round, one spare.
+    let k = 55 + d.bit_length() as i64 - n.bit_length() as i64;
+    let (q, r) = if k >= 0 {
+        n.shifted(k as u64)?.div_rem(d)
+    } else {
+        n.div_rem(&d.shifted((-k) as u64)?)
+    };
+    let sticky = !r.is_zero();
+    let q = q.low_u64();
     let shift = 64 - q.leading_zeros() as i32 - 53;
     let mut mantissa = q >> shift;
     let dropped = q & ((1u64 << shift) - 1);
@@ -95,7 +144,7 @@ fn quotient(n: &BigInt, d: &BigInt, e: i32) -> (f64, bool) {
     let exp = shift as i64 + e as i64 - k;
     let magnitude = times_pow2(mantissa as f64, exp);
     let exact = dropped == 0 && !sticky;
-    (if negative { -magnitude } else { magnitude }, exact)
+    Some((if negative { -magnitude } else { magnitude }, exact))
 }
 
 /// `x * 2^exp`, by steps that keep each factor a normal power of two.
@@ -146,6 +195,45 @@ mod tests {
             Point::Explicit([2.0, 1.0, 3.0])
         ));
         assert!(!simplify(a_third()).is_explicit());
+    }
+
+    /// Lines and planes with coordinates from 1e-150 to 1e150: their homogeneous
+    /// coordinates overflow 384 bits, so rounding takes the big integers.
+    #[test]
+    fn rounding_with_huge_exponent_spans_agrees_with_the_rational_oracle() {
+        let mut random = xorshift(0x9abc_def0);
+        let mut next = || {
+            let unit = (random() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            let scale = 10f64.powi((random() % 301) as i32 - 150);
+            unit * scale
+        };
+        let mut checked = 0;
+        for _ in 0..300 {
+            let mut pt = || [next(), next(), next()];
+            let (p, q, r, s, t) = (pt(), pt(), pt(), pt(), pt());
+            let Some(x) = Point::lpi(p, q, r, s, t) else {
+                continue;
+            };
+            let e_low = (x.coords().iter())
+                .filter(|&&c| c != 0.0)
+                .map(|&c| decompose(c).1)
+                .min()
+                .unwrap_or(0);
+            let fixed = x.hom(&|c: f64| Fixed::scaled(c, e_low), &Fixed::ONE);
+            if fixed.iter().all(|h| h.value().is_some()) {
+                continue;
+            }
+            checked += 1;
+            let rounded = round_point(&x);
+            let exact = oracle::oracle_point(&x);
+            for k in 0..3 {
+                let error = |y: f64| (oracle::q(y) - &exact[k]).abs();
+                let own = error(rounded[k]);
+                assert!(own <= error(rounded[k].next_up()), "coordinate {k}");
+                assert!(own <= error(rounded[k].next_down()), "coordinate {k}");
+            }
+        }
+        assert!(checked > 100, "only {checked} points took the big integers");
     }
 
     #[test]
