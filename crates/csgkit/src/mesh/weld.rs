@@ -17,8 +17,8 @@
 //!   order of first occurrence, so welding is deterministic.
 //!
 //! # Complexity
-//! One parallel sort of the vertices by their coordinate bits: O(V log V) work spread over
-//! every core, O(V) memory.
+//! One parallel sort of the vertices by a hash of their coordinate bits: O(V log V) work
+//! spread over every core, O(V) memory.
 
 use crate::par::*;
 
@@ -47,29 +47,37 @@ impl Welding {
 
 /// Computes the welding of equal positions.
 ///
-/// Sorts the vertices by their coordinate bits (in parallel) and takes the first vertex of
-/// each run of equal keys: the same result as a first-occurrence hash pass, faster on large
-/// meshes because the sort runs on every core.
+/// Sorts the vertices by a hash of their coordinate bits (in parallel), splits each run of
+/// equal hashes by the bits themselves, and takes the first vertex of each class: the same
+/// result as a first-occurrence hash pass, faster on large meshes because the sort runs on
+/// every core. Sorting 16-byte (hash, vertex) records rather than the 32-byte (bits, vertex)
+/// ones halves what the sort moves: 35–47 → 20–28 ms on the million vertices of two 1 M
+/// triangle spheres, the same welding.
 pub fn weld_positions(positions: &[[f64; 3]]) -> Welding {
-    let mut order: Vec<([u64; 3], u32)> = (positions.par_iter().enumerate())
-        .map(|(v, p)| (p.map(canonical_bits), v as u32))
+    let bits = |v: u32| positions[v as usize].map(canonical_bits);
+    let mut order: Vec<(u64, u32)> = (positions.par_iter().enumerate())
+        .map(|(v, p)| (position_hash(p), v as u32))
         .collect();
     order.par_sort_unstable();
-    // The first vertex of each run of equal keys represents it.
-    let mut first_of = vec![0u32; positions.len()];
-    let mut is_first = vec![false; positions.len()];
-    for run in order.chunk_by(|x, y| x.0 == y.0) {
-        let first = run[0].1;
-        is_first[first as usize] = true;
-        for &(_, v) in run {
-            first_of[v as usize] = first;
+    // Each vertex is the first of its class unless a run says otherwise.
+    let mut first_of: Vec<u32> = (0..positions.len() as u32).collect();
+    for run in order.chunk_by_mut(|x, y| x.0 == y.0) {
+        if run.len() == 1 {
+            continue;
+        }
+        // Equal bits are together, each class in vertex order.
+        run.sort_unstable_by_key(|&(_, v)| (bits(v), v));
+        for class in run.chunk_by(|x, y| bits(x.1) == bits(y.1)) {
+            for &(_, v) in &class[1..] {
+                first_of[v as usize] = class[0].1;
+            }
         }
     }
     // Welded ids in order of first occurrence.
     let mut id_of_first = vec![0u32; positions.len()];
     let mut representatives = Vec::new();
-    for (v, &first) in is_first.iter().enumerate() {
-        if first {
+    for (v, &first) in first_of.iter().enumerate() {
+        if first as usize == v {
             id_of_first[v] = representatives.len() as u32;
             // Lossless: `Mesh` guarantees fewer than u32::MAX vertices.
             representatives.push(v as u32);
@@ -80,6 +88,20 @@ pub fn weld_positions(positions: &[[f64; 3]]) -> Welding {
         remap,
         representatives,
     }
+}
+
+/// A hash of a position's canonical coordinate bits: equal positions hash equal.
+fn position_hash(p: &[f64; 3]) -> u64 {
+    let [a, b, c] = p.map(canonical_bits);
+    // Odd multipliers and rotations spread every bit of each coordinate (grid coordinates
+    // differ only in high bits), then a final avalanche (splitmix64's).
+    let mut h = a.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        ^ b.rotate_left(21).wrapping_mul(0xc2b2_ae3d_27d4_eb4f)
+        ^ c.rotate_left(43).wrapping_mul(0x1656_67b1_9e37_79f9);
+    h ^= h >> 30;
+    h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h ^= h >> 27;
+    h
 }
 
 /// The bits of a coordinate, with `-0.0` mapped to `+0.0`.
@@ -146,6 +168,35 @@ mod tests {
         assert_eq!(welding.representatives, vec![0, 1, 5]);
         assert_eq!(welding.duplicate_count(), 3);
         assert_eq!(welding.welded_count(), 3);
+    }
+
+    /// Against a first-occurrence pass with a hash map, on positions drawn from a small pool
+    /// (long runs of equal positions, both zeros).
+    #[test]
+    fn agrees_with_a_first_occurrence_pass() {
+        let pool = [0.0, -0.0, 1.0, 0.5, -2.0, 1e-300, 3.0e10];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            pool[(state % pool.len() as u64) as usize]
+        };
+        let positions: Vec<[f64; 3]> = (0..5000).map(|_| [next(), next(), next()]).collect();
+        let mut id_of = std::collections::HashMap::new();
+        let mut representatives = Vec::new();
+        let remap: Vec<u32> = (positions.iter().enumerate())
+            .map(|(v, p)| {
+                *id_of.entry(p.map(canonical_bits)).or_insert_with(|| {
+                    representatives.push(v as u32);
+                    representatives.len() as u32 - 1
+                })
+            })
+            .collect();
+        let welding = weld_positions(&positions);
+        assert!(welding.duplicate_count() > 4000);
+        assert_eq!(welding.remap, remap);
+        assert_eq!(welding.representatives, representatives);
     }
 
     #[test]
