@@ -5,6 +5,7 @@
 //! exact while no operation overflows), which rounding tries before [`Big`].
 
 use num_bigint::BigInt;
+use num_traits::{CheckedAdd, CheckedMul, CheckedSub, Zero};
 
 use super::Sign;
 use super::expansion::Expansion;
@@ -78,32 +79,28 @@ impl Arith for Big {
     }
 }
 
-/// An exact integer in 128 bits, scaled like [`Big`] (an input f64 times `2^-e_min`), or
-/// `None` once an operation overflowed, which makes every later result `None`: the stage then
-/// cannot tell and the cascade moves on. Inputs on a coarse grid (integer coordinates, or
-/// binary fractions of a few bits, as in box unions, voxel models and most CAD parts) have
-/// few significant bits between their largest magnitude and their lowest set bit, so a
-/// predicate's polynomial fits, and one multiplication costs what an expansion's
-/// two-product costs, with no growth and no allocation.
+/// An exact integer of a fixed width `T`, scaled like [`Big`] (an input f64 times
+/// `2^-e_min`), or `None` once an operation overflowed, which makes every later result
+/// `None`: the caller then cannot tell from it and moves on to a wider type.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Wide(Option<i128>);
+pub(crate) struct Checked<T>(Option<T>);
 
-impl Arith for Wide {
+impl<T: CheckedAdd + CheckedSub + CheckedMul + Zero + Ord + Copy> Arith for Checked<T> {
     #[inline]
     fn add(&self, o: &Self) -> Self {
-        Wide(self.0.zip(o.0).and_then(|(a, b)| a.checked_add(b)))
+        Checked(self.0.zip(o.0).and_then(|(a, b)| a.checked_add(&b)))
     }
     #[inline]
     fn sub(&self, o: &Self) -> Self {
-        Wide(self.0.zip(o.0).and_then(|(a, b)| a.checked_sub(b)))
+        Checked(self.0.zip(o.0).and_then(|(a, b)| a.checked_sub(&b)))
     }
     #[inline]
     fn mul(&self, o: &Self) -> Self {
-        Wide(self.0.zip(o.0).and_then(|(a, b)| a.checked_mul(b)))
+        Checked(self.0.zip(o.0).and_then(|(a, b)| a.checked_mul(&b)))
     }
     #[inline]
     fn sign(&self) -> Option<Sign> {
-        self.0.map(|v| match v.cmp(&0) {
+        self.0.map(|v| match v.cmp(&T::zero()) {
             std::cmp::Ordering::Less => Sign::Negative,
             std::cmp::Ordering::Equal => Sign::Zero,
             std::cmp::Ordering::Greater => Sign::Positive,
@@ -111,9 +108,23 @@ impl Arith for Wide {
     }
 }
 
+impl<T: Copy> Checked<T> {
+    /// The integer, `None` after an overflow.
+    pub(crate) fn value(&self) -> Option<&T> {
+        self.0.as_ref()
+    }
+}
+
+/// 128-bit integers, the cascade's second stage. Inputs on a coarse grid (integer
+/// coordinates, or binary fractions of a few bits, as in box unions, voxel models and most
+/// CAD parts) have few significant bits between their largest magnitude and their lowest set
+/// bit, so a predicate's polynomial fits, and one multiplication costs what an expansion's
+/// two-product costs, with no growth and no allocation.
+pub(crate) type Wide = Checked<i128>;
+
 impl Wide {
     /// The constant 1 (the `W` of an explicit point; not scaled).
-    pub(crate) const ONE: Wide = Wide(Some(1));
+    pub(crate) const ONE: Wide = Checked(Some(1));
 
     /// `x * 2^-e_min` as an integer, `None` when it does not fit in 126 bits; `e_min` must not
     /// exceed the exponent of `x`'s lowest bit.
@@ -121,67 +132,37 @@ impl Wide {
     pub(crate) fn scaled(x: f64, e_min: i32) -> Self {
         let (m, e) = decompose(x);
         if m == 0 {
-            return Wide(Some(0));
+            return Checked(Some(0));
         }
         let shift = e - e_min;
         // |m| < 2^53, so a shift of at most 73 stays below 2^126.
-        Wide((shift <= 73).then(|| i128::from(m) << shift))
+        Checked((shift <= 73).then(|| i128::from(m) << shift))
     }
 }
 
-/// The fixed-width integer type of [`Fixed`]: 384 bits, signed.
+/// The integer type of [`Fixed`]: 384 bits, signed.
 pub(crate) type Int384 = bnum::BInt<6>;
 
-/// An exact integer in 384 bits, scaled like [`Big`], or `None` once an operation overflowed
-/// (every later result is then `None`, and the caller uses [`Big`]). Rounding an output
-/// vertex evaluates its homogeneous coordinates and divides three of them by the fourth:
-/// with inputs of ordinary exponent spans these fit in 384 bits, and there each operation
-/// is a few dozen word operations where a big integer allocates.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Fixed(Option<Int384>);
-
-impl Arith for Fixed {
-    #[inline]
-    fn add(&self, o: &Self) -> Self {
-        Fixed(self.0.zip(o.0).and_then(|(a, b)| a.checked_add(b)))
-    }
-    #[inline]
-    fn sub(&self, o: &Self) -> Self {
-        Fixed(self.0.zip(o.0).and_then(|(a, b)| a.checked_sub(b)))
-    }
-    #[inline]
-    fn mul(&self, o: &Self) -> Self {
-        Fixed(self.0.zip(o.0).and_then(|(a, b)| a.checked_mul(b)))
-    }
-    #[inline]
-    fn sign(&self) -> Option<Sign> {
-        self.0.map(|v| match v.cmp(&Int384::ZERO) {
-            std::cmp::Ordering::Less => Sign::Negative,
-            std::cmp::Ordering::Equal => Sign::Zero,
-            std::cmp::Ordering::Greater => Sign::Positive,
-        })
-    }
-}
+/// 384-bit integers, which rounding tries before [`Big`]. Rounding an output vertex
+/// evaluates its homogeneous coordinates and divides three of them by the fourth: with inputs
+/// of ordinary exponent spans these fit in 384 bits, and there each operation is a few dozen
+/// word operations where a big integer allocates.
+pub(crate) type Fixed = Checked<Int384>;
 
 impl Fixed {
     /// The constant 1 (the `W` of an explicit point; not scaled).
-    pub(crate) const ONE: Fixed = Fixed(Some(Int384::ONE));
+    pub(crate) const ONE: Fixed = Checked(Some(Int384::ONE));
 
     /// `x * 2^-e_min` as an integer, `None` when it does not fit in 382 bits; `e_min` must not
     /// exceed the exponent of `x`'s lowest bit.
     pub(crate) fn scaled(x: f64, e_min: i32) -> Self {
         let (m, e) = decompose(x);
         if m == 0 {
-            return Fixed(Some(Int384::ZERO));
+            return Checked(Some(Int384::ZERO));
         }
         let shift = e - e_min;
         // |m| < 2^53, so a shift of at most 329 stays below 2^382.
-        Fixed((shift <= 329).then(|| Int384::from(m) << shift as u32))
-    }
-
-    /// The integer, `None` after an overflow.
-    pub(crate) fn value(&self) -> Option<&Int384> {
-        self.0.as_ref()
+        Checked((shift <= 329).then(|| Int384::from(m) << shift as u32))
     }
 }
 
@@ -279,11 +260,11 @@ mod tests {
         assert_eq!(Wide::scaled(-6.0, 1).0, Some(-3));
         assert_eq!(Wide::scaled(0.0, -1074).0, Some(0));
         assert_eq!(Wide::scaled(1.0, -74).0, None);
-        let big = Wide(Some(1 << 100));
-        assert_eq!(big.mul(&Wide(Some(1 << 26))).sign(), Some(Sign::Positive));
-        assert_eq!(big.mul(&Wide(Some(1 << 27))).sign(), None);
+        let big: Wide = Checked(Some(1 << 100));
+        assert_eq!(big.mul(&Checked(Some(1 << 26))).sign(), Some(Sign::Positive));
+        assert_eq!(big.mul(&Checked(Some(1 << 27))).sign(), None);
         assert_eq!(big.mul(&big).sub(&big).sign(), None, "overflow is sticky");
-        assert_eq!(x.sub(&Wide(Some(3))).sign(), Some(Sign::Zero));
+        assert_eq!(x.sub(&Checked(Some(3))).sign(), Some(Sign::Zero));
     }
 
     #[test]

@@ -51,13 +51,9 @@ pub fn simplify(p: Point) -> Point {
 /// integers where the homogeneous coordinates and the scaled quotients fit, else in big
 /// integers.
 fn quotients(p: &Point) -> [(f64, bool); 3] {
-    // Every input times `2^-e_low`, the lowest bit of any input: coordinates are
-    // `X / W * 2^e_low` (`X` has one input degree more than `W`).
-    let e_low = (p.coords().iter())
-        .filter(|&&x| x != 0.0)
-        .map(|&x| decompose(x).1)
-        .min()
-        .unwrap_or(0);
+    // Every input times `2^-e_low`: coordinates are `X / W * 2^e_low` (`X` has one input
+    // degree more than `W`).
+    let e_low = lowest_bit(p);
     let conv = |x: f64| Fixed::scaled(x, e_low);
     let [x, y, z, w] = p.hom(&conv, &Fixed::ONE);
     let fixed = |n: &Fixed| {
@@ -76,6 +72,15 @@ fn quotients(p: &Point) -> [(f64, bool); 3] {
         quotient(n.magnitude(), d.magnitude(), negative, e_low)
             .expect("big integers do not overflow")
     })
+}
+
+/// The exponent of the lowest set bit over `p`'s defining coordinates (0 when all are zero).
+fn lowest_bit(p: &Point) -> i32 {
+    (p.coords().iter())
+        .filter(|&&x| x != 0.0)
+        .map(|&x| decompose(x).1)
+        .min()
+        .unwrap_or(0)
 }
 
 /// Whether `n / d` is negative.
@@ -214,24 +219,13 @@ mod tests {
             let Some(x) = Point::lpi(p, q, r, s, t) else {
                 continue;
             };
-            let e_low = (x.coords().iter())
-                .filter(|&&c| c != 0.0)
-                .map(|&c| decompose(c).1)
-                .min()
-                .unwrap_or(0);
+            let e_low = lowest_bit(&x);
             let fixed = x.hom(&|c: f64| Fixed::scaled(c, e_low), &Fixed::ONE);
             if fixed.iter().all(|h| h.value().is_some()) {
                 continue;
             }
             checked += 1;
-            let rounded = round_point(&x);
-            let exact = oracle::oracle_point(&x);
-            for k in 0..3 {
-                let error = |y: f64| (oracle::q(y) - &exact[k]).abs();
-                let own = error(rounded[k]);
-                assert!(own <= error(rounded[k].next_up()), "coordinate {k}");
-                assert!(own <= error(rounded[k].next_down()), "coordinate {k}");
-            }
+            assert_rounds_to_nearest(&x);
         }
         assert!(checked > 100, "only {checked} points took the big integers");
     }
@@ -246,15 +240,19 @@ mod tests {
             let Some(x) = Point::lpi(p, q, r, s, t) else {
                 continue;
             };
-            let rounded = round_point(&x);
-            let exact = oracle::oracle_point(&x);
-            for k in 0..3 {
-                // No neighbouring f64 is strictly closer to the exact coordinate.
-                let error = |y: f64| (oracle::q(y) - &exact[k]).abs();
-                let own = error(rounded[k]);
-                assert!(own <= error(rounded[k].next_up()), "coordinate {k}");
-                assert!(own <= error(rounded[k].next_down()), "coordinate {k}");
-            }
+            assert_rounds_to_nearest(&x);
+        }
+    }
+
+    /// No neighbouring f64 of a rounded coordinate is strictly closer to the exact one.
+    fn assert_rounds_to_nearest(x: &Point) {
+        let rounded = round_point(x);
+        let exact = oracle::oracle_point(x);
+        for k in 0..3 {
+            let error = |y: f64| (oracle::q(y) - &exact[k]).abs();
+            let own = error(rounded[k]);
+            assert!(own <= error(rounded[k].next_up()), "coordinate {k}");
+            assert!(own <= error(rounded[k].next_down()), "coordinate {k}");
         }
     }
 }
