@@ -261,7 +261,10 @@ mod tests {
         assert_eq!(Wide::scaled(0.0, -1074).0, Some(0));
         assert_eq!(Wide::scaled(1.0, -74).0, None);
         let big: Wide = Checked(Some(1 << 100));
-        assert_eq!(big.mul(&Checked(Some(1 << 26))).sign(), Some(Sign::Positive));
+        assert_eq!(
+            big.mul(&Checked(Some(1 << 26))).sign(),
+            Some(Sign::Positive)
+        );
         assert_eq!(big.mul(&Checked(Some(1 << 27))).sign(), None);
         assert_eq!(big.mul(&big).sub(&big).sign(), None, "overflow is sticky");
         assert_eq!(x.sub(&Checked(Some(3))).sign(), Some(Sign::Zero));
