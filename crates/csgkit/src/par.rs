@@ -37,10 +37,14 @@ const JUDGE_AFTER: std::time::Duration = std::time::Duration::from_micros(100);
 /// The time left in a loop, at the pace of its first chunks, from which the pool pays. On
 /// 2 cores here, handing a loop over (waking sleeping workers, which then split it between
 /// them, while this thread waits) cost about 0.1 ms more than running it inline on the 120
-/// intersecting pairs of two unit cubes (0.06–0.19 ms left after the first 0.1 ms), and the
-/// exact splits and intersections of two cubes turned by 1e-7 rad (0.65–6.5 ms left) gain
-/// from it.
-const POOL_PAYS_FROM: std::time::Duration = std::time::Duration::from_micros(500);
+/// intersecting pairs of two unit cubes (0.06–0.19 ms left after the first 0.1 ms), and
+/// gained nothing on the exact splits of two cubes turned by 1e-7 rad (0.5–1 ms left):
+/// inline, rotated_xyz_intersection took 1.37 ms against 1.53 (medians of 11 interleaved
+/// runs). Where another process keeps a core busy, a woken worker can wait milliseconds for
+/// one while this thread waits for it: with one busy core, the same case's median went from
+/// 1.92 ms (handed over from 0.5 ms left) to 1.37 ms (inline), rotated_z_union's from 2.35
+/// to 1.69 ms.
+const POOL_PAYS_FROM: std::time::Duration = std::time::Duration::from_millis(2);
 
 /// Runs `run` on `items` in chunks, each appending its chunk's results to the vector it is
 /// given; returns the results in item order. The loop for items that cost microseconds each
