@@ -10,8 +10,9 @@
 
 use num_bigint::BigUint;
 use num_integer::Integer;
+use num_traits::Signed;
 
-use super::arith::{Big, Fixed, Int384, decompose};
+use super::arith::{Big, Fixed, decompose};
 use super::cascade::Homogeneous;
 use super::implicit::{Point, Point3};
 
@@ -67,9 +68,7 @@ fn quotients(p: &Point) -> [(f64, bool); 3] {
     let [x, y, z, w] = p.hom(&conv, &Big::one());
     [x, y, z].map(|n| {
         let (n, d) = (n.value(), w.value());
-        let negative =
-            (n.sign() == num_bigint::Sign::Minus) != (d.sign() == num_bigint::Sign::Minus);
-        quotient(n.magnitude(), d.magnitude(), negative, e_low)
+        quotient(n.magnitude(), d.magnitude(), negative(n, d), e_low)
             .expect("big integers do not overflow")
     })
 }
@@ -84,7 +83,7 @@ fn lowest_bit(p: &Point) -> i32 {
 }
 
 /// Whether `n / d` is negative.
-fn negative(n: &Int384, d: &Int384) -> bool {
+fn negative<T: Signed>(n: &T, d: &T) -> bool {
     !n.is_zero() && n.is_negative() != d.is_negative()
 }
 
