@@ -5,8 +5,9 @@
 //! A point's homogeneous coordinates `(X, Y, Z, W)` are polynomials in its defining f64
 //! coordinates (table in the [module docs](super)). They are evaluated in whichever number
 //! type the predicate cascade asks for (`hom`), and once, at construction, as intervals that
-//! the filter reuses (`filter_hom`). The sign of `W` is computed exactly at construction; a
-//! point whose `W` is exactly zero does not exist and is refused.
+//! the filter reuses (`filter_hom`), and divided into Cartesian coordinates to within a known
+//! error ([`Nearby`], for the filters of `nearby.rs`). The sign of `W` is computed exactly at construction; a point
+//! whose `W` is exactly zero does not exist and is refused.
 
 use std::cell::RefCell;
 use std::collections::hash_map::Entry;
@@ -18,6 +19,7 @@ use super::arith::Arith;
 use super::cascade::{Formula, Homogeneous, decide};
 use super::expansion::Expansion;
 use super::interval::{Interval, next_down, next_up};
+use super::nearby::Nearby;
 use super::{Axis, Sign};
 
 /// A point given by three f64 coordinates.
@@ -25,7 +27,7 @@ pub type Point3 = [f64; 3];
 
 /// A point of the exact pipeline: an input vertex or an intersection point.
 ///
-/// `Copy` and allocation-free; the largest variant ([`Tpi`]) is under 300 bytes.
+/// `Copy` and allocation-free; the largest variant ([`Tpi`]) is 336 bytes.
 #[derive(Clone, Copy, Debug)]
 pub enum Point {
     /// An input vertex.
@@ -47,6 +49,7 @@ pub struct Lpi {
     /// `[p, q, r, s, t]`.
     def: [Point3; 5],
     filter: [Interval; 4],
+    near: Nearby,
     w_sign: Sign,
 }
 
@@ -59,6 +62,7 @@ pub struct Lpi {
 pub struct Tpi {
     planes: [[Point3; 3]; 3],
     filter: [Interval; 4],
+    near: Nearby,
     w_sign: Sign,
 }
 
@@ -196,6 +200,7 @@ impl Point {
         let pt = Point::Lpi(Lpi {
             def,
             filter,
+            near: Nearby::of_box(&bounds_of(&filter)),
             w_sign: Sign::Zero,
         });
         let w_sign = decide(&WSign(&pt));
@@ -222,6 +227,7 @@ impl Point {
         let pt = Point::Tpi(Tpi {
             planes,
             filter,
+            near: Nearby::of_box(&bounds_of(&filter)),
             w_sign: Sign::Zero,
         });
         let w_sign = decide(&WSign(&pt));
@@ -285,36 +291,24 @@ impl Point {
         }
     }
 
-    /// A box certain to contain the exact point, `(min, max)`: the cached filter intervals
-    /// divided with outward rounding. Unbounded when the interval of `W` contains zero (a
-    /// nearly degenerate definition, where [`Point::approx`] may be far off).
+    /// A box certain to contain the exact point, `(min, max)`. Unbounded when the interval
+    /// of `W` contains zero (a nearly degenerate definition, where [`Point::approx`] may be
+    /// far off).
     pub fn enclosure(&self) -> (Point3, Point3) {
-        let filter = match self {
-            Point::Explicit(p) => return (*p, *p),
-            Point::Lpi(Lpi { filter, .. }) | Point::Tpi(Tpi { filter, .. }) => filter,
-        };
-        let unbounded = ([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]);
-        let w = &filter[3];
-        if !(w.lo() > 0.0 || w.hi() < 0.0) {
-            return unbounded;
+        match self {
+            Point::Explicit(p) => (*p, *p),
+            Point::Lpi(Lpi { near, .. }) | Point::Tpi(Tpi { near, .. }) => near.enclosure(),
         }
-        let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
-        for k in 0..3 {
-            let n = &filter[k];
-            let q = [
-                n.lo() / w.lo(),
-                n.lo() / w.hi(),
-                n.hi() / w.lo(),
-                n.hi() / w.hi(),
-            ];
-            if q.iter().any(|x| !x.is_finite()) {
-                return unbounded;
-            }
-            // Each quotient is within half an ulp of the true one: one step outward covers it.
-            lo[k] = next_down(q.iter().copied().fold(f64::INFINITY, f64::min));
-            hi[k] = next_up(q.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    }
+
+    /// The point's Cartesian coordinates to within a known error: an input vertex's own,
+    /// exactly; an intersection point's as cached at construction.
+    #[inline]
+    pub(crate) fn nearby(&self) -> Nearby {
+        match self {
+            Point::Explicit(p) => Nearby::exact(*p),
+            Point::Lpi(Lpi { near, .. }) | Point::Tpi(Tpi { near, .. }) => *near,
         }
-        (lo, hi)
     }
 
     /// True when the point is defined as lying on the plane of a triangle whose vertices are
@@ -346,6 +340,35 @@ impl Point {
             Point::Tpi(t) => t.w_sign,
         }
     }
+}
+
+/// The Cartesian coordinates `X / W`, `Y / W`, `Z / W` of interval homogeneous coordinates,
+/// divided with outward rounding; unbounded when the interval of `W` contains zero or a
+/// quotient overflows.
+fn bounds_of(hom: &[Interval; 4]) -> [Interval; 3] {
+    let unbounded = [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 3];
+    let w = &hom[3];
+    if !(w.lo() > 0.0 || w.hi() < 0.0) {
+        return unbounded;
+    }
+    let mut bounds = unbounded;
+    for (bound, n) in bounds.iter_mut().zip(hom) {
+        let q = [
+            n.lo() / w.lo(),
+            n.lo() / w.hi(),
+            n.hi() / w.lo(),
+            n.hi() / w.hi(),
+        ];
+        if q.iter().any(|x| !x.is_finite()) {
+            return unbounded;
+        }
+        // Each quotient is within half an ulp of the true one: one step outward covers it.
+        *bound = Interval::new(
+            next_down(q.iter().copied().fold(f64::INFINITY, f64::min)),
+            next_up(q.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
+        );
+    }
+    bounds
 }
 
 impl Homogeneous for Point {

@@ -62,6 +62,13 @@ impl Interval {
         Interval { lo: x, hi: x }
     }
 
+    /// The interval `[lo, hi]`, which the caller knows to contain the value.
+    #[inline]
+    pub(crate) fn new(lo: f64, hi: f64) -> Self {
+        debug_assert!(lo <= hi, "an interval's ends are ordered");
+        Interval { lo, hi }
+    }
+
     /// The sign of every number in the interval, or `None` when the interval contains numbers
     /// of different signs (or is NaN): the filter cannot decide.
     #[inline]

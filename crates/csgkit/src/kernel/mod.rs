@@ -64,7 +64,9 @@
 //! built). It is evaluated by a cascade; the first stage that can decide answers:
 //! 0. **Shortcuts** — all-explicit arguments go to `robust` (for nonzero magnitudes in
 //!    `[2^-200, 2^200)`, where it cannot overflow or underflow; otherwise to stage 1); an
-//!    implicit point against a plane that defines it is on it, by construction.
+//!    implicit point against a plane that defines it is on it, by construction; `orient2d`
+//!    and coordinate order of implicit points first try their Cartesian coordinates to within
+//!    a known error (`nearby.rs`), whose differences stay sharp for close points.
 //! 1. **Filter** — interval arithmetic with outward rounding (`interval.rs`): sound for every
 //!    finite input, including overflow (fails safe to "undecided") and gradual underflow.
 //!    Implicit points cache their interval coordinates, so the filter does not allocate.
@@ -85,8 +87,11 @@
 //! - `interval.rs`, `expansion.rs`, `arith.rs`: the four number types behind one trait;
 //! - `cascade.rs`: stages 1–4 for any `Formula`, a polynomial over points it sees only as
 //!   homogeneous coordinates;
+//! - `nearby.rs`: Cartesian coordinates to within a known error, and the `orient2d` and
+//!   coordinate-order filters on them that the predicates try before the cascade (far
+//!   cheaper than the homogeneous filter, and sharp for close points);
 //! - `implicit.rs`: [`Point`], [`Lpi`], [`Tpi`], built by deciding the sign of `W` in the
-//!   cascade;
+//!   cascade, each keeping its coordinates as intervals and as a `nearby` point;
 //! - `formulas.rs`: the polynomials of the predicates (side of a plane, determinants,
 //!   coordinate differences);
 //! - `orient.rs`: [`orient2d`] and [`orient3d`], `robust` first and the cascade outside its
@@ -118,6 +123,7 @@ mod expansion;
 mod formulas;
 mod implicit;
 mod interval;
+mod nearby;
 mod orient;
 mod predicates;
 mod rounding;

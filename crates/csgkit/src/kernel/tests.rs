@@ -630,9 +630,12 @@ proptest! {
     }
 }
 
+/// A [`Tpi`](crate::kernel::Tpi)'s 27 defining coordinates, its interval homogeneous
+/// coordinates and its nearby Cartesian ones: points are copied through every stage, so
+/// their size is watched.
 #[test]
 fn points_stay_small() {
-    assert!(std::mem::size_of::<Point>() <= 300);
+    assert!(std::mem::size_of::<Point>() <= 336);
 }
 
 /// The oracle agrees with construction on random small-integer definitions at every scale.
