@@ -74,7 +74,7 @@
 //! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, incircle_value_if_clear, orient2d_projected,
+    Axis, Point, Point3, Sign, incircle_value_if_clear, orient2d, orient2d_projected,
     orient2d_projected_if_clear, orient2d_projected_or_collinear, orient2d_value_if_clear,
     orient3d, orient3d_plane,
 };
@@ -262,21 +262,57 @@ impl Projection {
         Some(if self.flip { s.flip() } else { s })
     }
 
-    /// True when `a, b, c` lie on the plane of some triangle `π` that defines one of them and
-    /// is not parallel to this one: all three are on both planes, so on their common line.
+    /// True when `a, b, c` lie on the plane of some triangle `π` other than this one: all
+    /// three are on both planes, so on their common line. `π` is a plane that defines one of
+    /// them, or a plane through the line of one of them and a point that defines another.
     /// Points along one cut are of this kind (the ends of a crossing lie on the other
     /// triangle's plane, or on its edges, or on the edges of a triangle coplanar with it, as
-    /// where a planar quad is split in two), and such exactly collinear triples would otherwise
-    /// go to the slow exact stages of the kernel. Asked only where the kernel's filter cannot
-    /// decide, so the exact tests on explicit points here cost little.
+    /// where a planar quad is split in two, or on the edges of both triangles of such a quad),
+    /// and such exactly collinear triples would otherwise go to the slow exact stages of the
+    /// kernel. Asked only where the kernel's filter cannot decide, so the exact tests on
+    /// explicit points here cost little.
     fn on_another_plane(&self, a: &Point, b: &Point, c: &Point) -> bool {
         let Some(own) = self.corners else {
             return false;
         };
         let points = [a, b, c];
-        (points.iter().flat_map(|p| defining_planes(p)))
+        let candidates =
+            (points.iter().flat_map(|p| defining_planes(p))).chain(planes_through_lines(&points));
+        candidates
+            .into_iter()
             .any(|plane| !same_plane(&plane, &own) && points.iter().all(|p| lies_on(p, &plane)))
     }
+}
+
+/// The planes through the line of a line–plane point among `points` and an input point that
+/// defines another of them (a vertex, an end of its line), where the three are not collinear.
+fn planes_through_lines<'a>(points: &'a [&'a Point; 3]) -> impl Iterator<Item = [Point3; 3]> + 'a {
+    let anchors = |p: &Point| -> [Option<Point3>; 2] {
+        match p {
+            Point::Explicit(x) => [Some(*x), None],
+            Point::Lpi(l) => {
+                let (s, t, _) = l.definition();
+                [Some(s), Some(t)]
+            }
+            Point::Tpi(_) => [None, None],
+        }
+    };
+    let lines = points.iter().filter_map(|p| match p {
+        Point::Lpi(l) => Some(l.definition()),
+        _ => None,
+    });
+    lines.flat_map(move |(s, t, _)| {
+        (points.iter().flat_map(move |p| anchors(p)).flatten())
+            .filter(move |x| !collinear(&s, &t, x))
+            .map(move |x| [s, t, x])
+    })
+}
+
+/// True when three input points lie on one line (exactly: every projection is degenerate).
+fn collinear(a: &Point3, b: &Point3, c: &Point3) -> bool {
+    [Axis::X, Axis::Y, Axis::Z]
+        .into_iter()
+        .all(|drop| orient2d(drop.project(*a), drop.project(*b), drop.project(*c)) == Sign::Zero)
 }
 
 /// The triangles whose planes define `p`: none for an explicit point, one for an

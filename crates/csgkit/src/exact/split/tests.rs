@@ -465,6 +465,26 @@ fn projection_flips_when_the_dropped_component_is_negative() {
     assert!(p(tilted().corners).flip);
 }
 
+/// A triangle cut by both triangles of a planar quad: the crossings of the quad's two sides
+/// and its diagonal lie on one line, proven by the plane through their lines (no point is
+/// defined on the quad's plane, so the defining planes alone do not show it), and a line
+/// moved off that plane is not taken for collinear.
+#[test]
+fn crossings_of_a_planar_quad_are_collinear_by_its_plane() {
+    let own: [Point3; 3] = [[0.0, 0.0, 0.0], [8.0, 0.0, 0.75], [0.0, 8.0, 2.5]];
+    let proj = Projection::new(&own.map(Point::Explicit)).unwrap();
+    // A parallelogram, so exactly planar, crossing the triangle's plane.
+    let (v1, w1) = ([3.0, 0.0, -5.0], [3.25, 0.5, 5.0]);
+    let (v2, w2) = ([1.0, 4.0, -5.0], [1.25, 4.5, 5.0]);
+    let cut = |p: Point3, q: Point3| Point::lpi(p, q, own[0], own[1], own[2]).unwrap();
+    let (a, b, c) = (cut(v1, w1), cut(v2, w1), cut(v2, w2));
+    assert!(proj.on_another_plane(&a, &b, &c));
+    assert_eq!(proj.orient(&a, &b, &c), Sign::Zero);
+    let off = cut(v2, [1.25, 4.75, 5.0]);
+    assert!(!proj.on_another_plane(&a, &b, &off));
+    assert_ne!(proj.orient(&a, &b, &off), Sign::Zero);
+}
+
 /// Two triangles sharing the edge `B C`, both given the same point on it, split it the same
 /// way: the boundary edges of one are the reversed boundary edges of the other.
 #[test]
