@@ -264,7 +264,7 @@ impl Projection {
 
     /// True when `a, b, c` lie on the plane of some triangle `π` other than this one: all
     /// three are on both planes, so on their common line. `π` is a plane that defines one of
-    /// them, or a plane through the line of one of them and a point that defines another.
+    /// them, or the plane through the line of one of them and a point that defines another.
     /// Points along one cut are of this kind (the ends of a crossing lie on the other
     /// triangle's plane, or on its edges, or on the edges of a triangle coplanar with it, as
     /// where a planar quad is split in two, or on the edges of both triangles of such a quad),
@@ -277,16 +277,23 @@ impl Projection {
         };
         let points = [a, b, c];
         let candidates =
-            (points.iter().flat_map(|p| defining_planes(p))).chain(planes_through_lines(&points));
+            (points.iter().flat_map(|p| defining_planes(p))).chain(plane_through_lines(&points));
         candidates
             .into_iter()
             .any(|plane| !same_plane(&plane, &own) && points.iter().all(|p| lies_on(p, &plane)))
     }
 }
 
-/// The planes through the line of a line–plane point among `points` and an input point that
-/// defines another of them (a vertex, an end of its line), where the three are not collinear.
-fn planes_through_lines<'a>(points: &'a [&'a Point; 3]) -> impl Iterator<Item = [Point3; 3]> + 'a {
+/// The plane through the line of the first line–plane point among `points` and the first
+/// input point that defines another of them (a vertex, an end of its line) off that line:
+/// the plane that holds all three lines when they are edges of one planar face. One
+/// candidate, not every pairing, as this is asked of every triple the filter cannot decide,
+/// most of them not collinear at all.
+fn plane_through_lines(points: &[&Point; 3]) -> Option<[Point3; 3]> {
+    let (index, (s, t, _)) = points.iter().enumerate().find_map(|(i, p)| match p {
+        Point::Lpi(l) => Some((i, l.definition())),
+        _ => None,
+    })?;
     let anchors = |p: &Point| -> [Option<Point3>; 2] {
         match p {
             Point::Explicit(x) => [Some(*x), None],
@@ -297,15 +304,9 @@ fn planes_through_lines<'a>(points: &'a [&'a Point; 3]) -> impl Iterator<Item = 
             Point::Tpi(_) => [None, None],
         }
     };
-    let lines = points.iter().filter_map(|p| match p {
-        Point::Lpi(l) => Some(l.definition()),
-        _ => None,
-    });
-    lines.flat_map(move |(s, t, _)| {
-        (points.iter().flat_map(move |p| anchors(p)).flatten())
-            .filter(move |x| !collinear(&s, &t, x))
-            .map(move |x| [s, t, x])
-    })
+    let others = (points.iter().enumerate()).filter(|&(i, _)| i != index);
+    let x = (others.flat_map(|(_, p)| anchors(p)).flatten()).find(|x| !collinear(&s, &t, x))?;
+    Some([s, t, x])
 }
 
 /// True when three input points lie on one line (exactly: every projection is degenerate).
