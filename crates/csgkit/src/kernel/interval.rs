@@ -19,8 +19,10 @@
 //!
 //! # Cost
 //! About four times the floating-point work of the plain expression, no allocation, no branch
-//! that depends on anything but signs. A static error bound per predicate (Attene's FPG-derived
-//! filters) would be several times faster; this is the simple, obviously-sound first version.
+//! that depends on anything but signs. The predicates asked most (`orient2d_projected` and
+//! `compare_along` of implicit points) first try `nearby.rs`, a running error bound on
+//! Cartesian coordinates, several times cheaper; this filter decides the rest, and for
+//! every predicate it is the simple, obviously-sound one.
 
 use super::Sign;
 
