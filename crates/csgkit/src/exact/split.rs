@@ -277,7 +277,7 @@ impl Projection {
         };
         let points = [a, b, c];
         let candidates =
-            (points.iter().flat_map(|p| defining_planes(p))).chain(plane_through_lines(&points));
+            (points.iter().flat_map(|p| p.defining_planes())).chain(plane_through_lines(&points));
         candidates
             .into_iter()
             .any(|plane| !same_plane(&plane, &own) && points.iter().all(|p| lies_on(p, &plane)))
@@ -314,17 +314,6 @@ fn collinear(a: &Point3, b: &Point3, c: &Point3) -> bool {
     [Axis::X, Axis::Y, Axis::Z]
         .into_iter()
         .all(|drop| orient2d(drop.project(*a), drop.project(*b), drop.project(*c)) == Sign::Zero)
-}
-
-/// The triangles whose planes define `p`: none for an explicit point, one for an
-/// [`Lpi`](crate::kernel::Lpi), three for a [`Tpi`](crate::kernel::Tpi).
-fn defining_planes(p: &Point) -> impl Iterator<Item = [Point3; 3]> + '_ {
-    let (lpi, tpi): (Option<[Point3; 3]>, &[[Point3; 3]]) = match p {
-        Point::Explicit(_) => (None, &[]),
-        Point::Lpi(l) => (Some(l.definition().2), &[]),
-        Point::Tpi(t) => (None, t.planes()),
-    };
-    lpi.into_iter().chain(tpi.iter().copied())
 }
 
 /// True when `p` lies on the plane of the (non-degenerate) triangle `plane` by the way it is

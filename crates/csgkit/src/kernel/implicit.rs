@@ -311,6 +311,17 @@ impl Point {
         }
     }
 
+    /// The triangles whose planes define the point: none for an input vertex, one for an
+    /// [`Lpi`], three for a [`Tpi`]. The point lies on each of these planes exactly.
+    pub(crate) fn defining_planes(&self) -> impl Iterator<Item = [Point3; 3]> + '_ {
+        let (lpi, tpi): (Option<[Point3; 3]>, &[[Point3; 3]]) = match self {
+            Point::Explicit(_) => (None, &[]),
+            Point::Lpi(l) => (Some(l.definition().2), &[]),
+            Point::Tpi(t) => (None, t.planes()),
+        };
+        lpi.into_iter().chain(tpi.iter().copied())
+    }
+
     /// True when the point is defined as lying on the plane of a triangle whose vertices are
     /// those of `tri` (in any order): the plane of an [`Lpi`], one of the planes of a [`Tpi`].
     /// A cheap structural test; `false` says nothing.
