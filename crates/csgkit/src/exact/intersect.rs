@@ -437,27 +437,27 @@ fn chord(t: &Triangle, s: &[Sign; 3], other: &Triangle) -> Option<[End; 2]> {
     }
 }
 
-/// The first axis on which `p` and `q` differ.
-fn first_axis(p: &Point, q: &Point) -> Option<Axis> {
-    [Axis::X, Axis::Y, Axis::Z]
-        .into_iter()
-        .find(|&axis| compare_along(p, q, axis) != Ordering::Equal)
+/// The first axis on which `p` and `q` differ, and their order there.
+fn first_axis(p: &Point, q: &Point) -> Option<(Axis, Ordering)> {
+    [Axis::X, Axis::Y, Axis::Z].into_iter().find_map(|axis| {
+        let order = compare_along(p, q, axis);
+        (order != Ordering::Equal).then_some((axis, order))
+    })
 }
 
-/// Locates `x` on the chord `c` of triangle `t` (ends sorted along `axis`): the feature of
-/// `t` and, when `x` is an end of `c`, which end.
+/// Locates a point on the chord `c` of triangle `t` (ends sorted along the chords' axis),
+/// given its order against the chord's start (`lo`) and end (`hi`, asked only when needed):
+/// the feature of `t` and, when the point is an end of `c`, which end.
 fn on_chord(
-    x: &Point,
+    lo: Ordering,
+    hi: impl FnOnce() -> Ordering,
     c: &[End; 2],
     t_chord_inside: Feature,
-    axis: Axis,
 ) -> Option<(Feature, Option<usize>)> {
-    let lo = compare_along(x, &c[0].point, axis);
     if lo == Ordering::Equal {
         return Some((c[0].own.feature(), Some(0)));
     }
-    let hi = compare_along(x, &c[1].point, axis);
-    match (lo, hi) {
+    match (lo, hi()) {
         (_, Ordering::Equal) => Some((c[1].own.feature(), Some(1))),
         (Ordering::Greater, Ordering::Less) => Some((t_chord_inside, None)),
         _ => None,
@@ -474,41 +474,69 @@ fn chord_inside(c: &[End; 2]) -> Feature {
     }
 }
 
-/// Sorts a chord's ends along `axis`, in place (an end holds a kernel point of a few hundred
-/// bytes).
-fn sort_along(c: &mut [End; 2], axis: Axis) {
-    if compare_along(&c[0].point, &c[1].point, axis) == Ordering::Greater {
-        c.swap(0, 1);
-    }
-}
-
 /// Triangles that are not coplanar and whose sign vectors are not one-sided (steps 2–4).
 fn transversal(a: &Triangle, b: &Triangle, sa: &[Sign; 3], sb: &[Sign; 3]) -> Intersection {
     let (Some(ca), Some(cb)) = (chord(a, sa, b), chord(b, sb, a)) else {
         return Intersection::Disjoint;
     };
-    let axis = first_axis(&ca[0].point, &ca[1].point)
-        .or_else(|| first_axis(&cb[0].point, &cb[1].point))
-        .or_else(|| first_axis(&ca[0].point, &cb[0].point));
+    // Each comparison of two chord ends is asked once: near ties of implicit points (a cube
+    // turned by 1e-7 rad) go to the exact stages, and the overlap below meets the same pairs
+    // of ends again.
+    let ends_a = first_axis(&ca[0].point, &ca[1].point);
+    let ends_b = ends_a
+        .is_none()
+        .then(|| first_axis(&cb[0].point, &cb[1].point))
+        .flatten();
+    let axis = (ends_a.or(ends_b).map(|(axis, _)| axis))
+        .or_else(|| first_axis(&ca[0].point, &cb[0].point).map(|(axis, _)| axis));
     let Some(axis) = axis else {
         // All chord ends are one point.
         let (end, other) = (&ca[0], &cb[0]);
         let feature = other.own.feature();
         return Intersection::TouchingPoint(merged(a, end, b, feature, Some(&other.point)));
     };
+    // The order of each chord's ends along the axis; equal ends on every axis keep theirs.
+    let order_a = ends_a.map_or(Ordering::Equal, |(_, order)| order);
+    let order_b = match (ends_a, ends_b) {
+        (None, Some((_, order))) => order,
+        (None, None) => Ordering::Equal,
+        (Some(_), _) => compare_along(&cb[0].point, &cb[1].point, axis),
+    };
     let (mut ca, mut cb) = (ca, cb);
-    sort_along(&mut ca, axis);
-    sort_along(&mut cb, axis);
+    if order_a == Ordering::Greater {
+        ca.swap(0, 1);
+    }
+    if order_b == Ordering::Greater {
+        cb.swap(0, 1);
+    }
     let inside = (chord_inside(&ca), chord_inside(&cb));
     // The overlap of the chords: the later start and the earlier end, from `a` when tied.
-    let lo_from_a = compare_along(&ca[0].point, &cb[0].point, axis) != Ordering::Less;
-    let hi_from_a = compare_along(&ca[1].point, &cb[1].point, axis) != Ordering::Greater;
+    let cmp = |x: &End, y: &End| compare_along(&x.point, &y.point, axis);
+    let starts = cmp(&ca[0], &cb[0]);
+    let stops = cmp(&ca[1], &cb[1]);
+    let (lo_from_a, hi_from_a) = (starts != Ordering::Less, stops != Ordering::Greater);
     let end_contact = |from_a: bool, k: usize| {
         if from_a {
-            let (f, end) = on_chord(&ca[k].point, &cb, inside.1, axis)?;
+            // `a`'s end `k` against `b`'s chord.
+            let lo = if k == 0 { starts } else { cmp(&ca[1], &cb[0]) };
+            let hi = || if k == 1 { stops } else { cmp(&ca[0], &cb[1]) };
+            let (f, end) = on_chord(lo, hi, &cb, inside.1)?;
             Some(merged(a, &ca[k], b, f, end.map(|e| &cb[e].point)))
         } else {
-            let (f, end) = on_chord(&cb[k].point, &ca, inside.0, axis)?;
+            // `b`'s end `k` against `a`'s chord.
+            let lo = if k == 0 {
+                starts.reverse()
+            } else {
+                cmp(&cb[1], &ca[0])
+            };
+            let hi = || {
+                if k == 1 {
+                    stops.reverse()
+                } else {
+                    cmp(&cb[0], &ca[1])
+                }
+            };
+            let (f, end) = on_chord(lo, hi, &ca, inside.0)?;
             Some(swapped(merged(b, &cb[k], a, f, end.map(|e| &ca[e].point))))
         }
     };
