@@ -74,9 +74,9 @@
 //! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, incircle_value_if_clear, orient2d, orient2d_projected,
-    orient2d_projected_if_clear, orient2d_projected_or_collinear, orient2d_value_if_clear,
-    orient3d, orient3d_plane,
+    Axis, Point, Point3, Sign, incircle_value_if_clear, normal_component_is_zero,
+    orient2d_projected, orient2d_projected_if_clear, orient2d_projected_or_collinear,
+    orient2d_value_if_clear, orient3d, orient3d_plane,
 };
 
 #[cfg(test)]
@@ -309,11 +309,11 @@ fn plane_through_lines(points: &[&Point; 3]) -> Option<[Point3; 3]> {
     Some([s, t, x])
 }
 
-/// True when three input points lie on one line (exactly: every projection is degenerate).
+/// True when three input points lie on one line (exactly: their normal is zero).
 fn collinear(a: &Point3, b: &Point3, c: &Point3) -> bool {
     [Axis::X, Axis::Y, Axis::Z]
         .into_iter()
-        .all(|drop| orient2d(drop.project(*a), drop.project(*b), drop.project(*c)) == Sign::Zero)
+        .all(|axis| normal_component_is_zero(&[*a, *b, *c], axis))
 }
 
 /// True when `p` lies on the plane of the (non-degenerate) triangle `plane` by the way it is

@@ -6,8 +6,8 @@
 //! coordinates (table in the [module docs](super)). They are evaluated in whichever number
 //! type the predicate cascade asks for (`hom`), and once, at construction, as intervals that
 //! the filter reuses (`filter_hom`), and divided into Cartesian coordinates to within a known
-//! error ([`Nearby`], for the filters of `nearby.rs`). The sign of `W` is computed exactly at construction; a point
-//! whose `W` is exactly zero does not exist and is refused.
+//! error ([`Nearby`], for the filters of `nearby.rs`). The sign of `W` is computed exactly at
+//! construction; a point whose `W` is exactly zero does not exist and is refused.
 
 use std::cell::RefCell;
 use std::collections::hash_map::Entry;

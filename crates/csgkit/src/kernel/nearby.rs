@@ -57,19 +57,19 @@ impl Nearby {
         }
     }
 
+    /// A point the filters know nothing about.
+    const UNBOUNDED: Nearby = Nearby {
+        at: [0.0; 3],
+        error: [f64::INFINITY; 3],
+    };
+
     /// The midpoint and half-width of each interval of `box_`, rounded outward.
     pub(crate) fn of_box(box_: &[Interval; 3]) -> Nearby {
-        let mut near = Nearby {
-            at: [0.0; 3],
-            error: [f64::INFINITY; 3],
-        };
+        let mut near = Nearby::UNBOUNDED;
         for ((at, error), i) in near.at.iter_mut().zip(&mut near.error).zip(box_) {
             let (lo, hi) = (i.lo(), i.hi());
             if !(lo.is_finite() && hi.is_finite()) {
-                return Nearby {
-                    at: [0.0; 3],
-                    error: [f64::INFINITY; 3],
-                };
+                return Nearby::UNBOUNDED;
             }
             // Halves first: `lo + hi` may overflow. Halving is exact above the subnormals,
             // and `next_up` covers the rounding of both differences below.

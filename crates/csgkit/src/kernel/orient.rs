@@ -33,11 +33,11 @@
 
 use robust::{Coord, Coord3D};
 
-use super::Sign;
 use super::arith::bit_range;
 use super::cascade::decide;
 use super::formulas::{Det3, PlaneSide};
 use super::implicit::{Point, Point3};
+use super::{Axis, Sign};
 
 /// `|x|` at or above this may overflow or underflow inside `robust`: `2^200`.
 const ROBUST_HIGH: f64 = f64::from_bits((1023 + 200) << 52);
@@ -123,6 +123,14 @@ pub fn orient3d(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> Sign {
         return Sign::of(robust::orient3d(cv(a), cv(b), cv(c), cv(d)));
     }
     orient3d_cascade(a, b, c, d)
+}
+
+/// True when component `axis` of the normal `(b − a) × (c − a)` of triangle `t` is exactly
+/// zero: the triangle's plane contains the direction of that axis (or the triangle is
+/// degenerate), as its projection along the axis is.
+pub(crate) fn normal_component_is_zero(t: &[[f64; 3]; 3], axis: Axis) -> bool {
+    let [p, q, r] = t.map(|x| axis.project(x));
+    orient2d(p, q, r) == Sign::Zero
 }
 
 /// [`orient3d`] of the corners of a triangle in the axis plane `x_k = level` and a point

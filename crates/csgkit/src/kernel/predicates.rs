@@ -13,8 +13,7 @@ use super::cascade::{decide, decide_or_zero, filter};
 use super::formulas::{AxisDiff, Det3, Det4, PlaneSide};
 use super::implicit::{Point, Point3};
 use super::nearby;
-
-use super::{Axis, Sign, orient2d, orient3d, side_of_axis_plane};
+use super::{Axis, Sign, normal_component_is_zero, orient2d, orient3d, side_of_axis_plane};
 
 /// Which side of the plane of the explicit triangle `a, b, c` the point `d` lies on.
 ///
@@ -184,9 +183,9 @@ pub fn orient2d_projected_if_clear(a: &Point, b: &Point, c: &Point, drop: Axis) 
     }
 }
 
-/// [`orient2d_projected`] where the points' [`Nearby`](nearby::Nearby) coordinates decide it: tried before
-/// the homogeneous filter, being both far cheaper and sharper for close points (see
-/// `nearby.rs`).
+/// [`orient2d_projected`] where the points' [`Nearby`](nearby::Nearby) coordinates decide it:
+/// tried before the homogeneous filter, being both far cheaper and sharper for close points
+/// (see `nearby.rs`).
 #[inline]
 fn orient2d_nearby(a: &Point, b: &Point, c: &Point, drop: Axis) -> Option<Sign> {
     let k = drop.index();
@@ -229,7 +228,7 @@ pub fn compare_along(a: &Point, b: &Point, axis: Axis) -> Ordering {
         return order;
     }
     let w = a.w_sign().times(b.w_sign());
-    let proven = || on_one_axis_parallel_line(a, b, i);
+    let proven = || on_one_axis_parallel_line(a, b, axis);
     decide_or_zero(&AxisDiff { a, b, axis: i }, proven)
         .times(w)
         .to_ordering()
@@ -242,25 +241,21 @@ pub fn compare_along(a: &Point, b: &Point, axis: Axis) -> Ordering {
 /// in a line along `m`). Two crossings on the vertical face of a cube turned about z, whose
 /// lines lie in a face of the other cube, are of this kind: exact zeros that the filters
 /// cannot see and that cost the exact stages thousands of instructions each.
-fn on_one_axis_parallel_line(a: &Point, b: &Point, i: usize) -> bool {
-    // The normal of `plane` has a zero component `k`: the plane contains the direction of
-    // axis `k` (the triangle's projection along `k` is degenerate).
-    let normal_is_zero_on = |plane: &[Point3; 3], k: usize| {
-        let axis = [Axis::X, Axis::Y, Axis::Z][k];
-        let [p, q, r] = plane.map(|x| axis.project(x));
-        orient2d(p, q, r) == Sign::Zero
-    };
-    (0..3).filter(|&j| j != i).any(|j| {
-        let m = 3 - i - j;
-        let same_known = match (a.known_coordinate(j), b.known_coordinate(j)) {
+fn on_one_axis_parallel_line(a: &Point, b: &Point, i: Axis) -> bool {
+    const AXES: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
+    AXES.into_iter().filter(|&j| j != i).any(|j| {
+        let m = AXES.into_iter().find(|&m| m != i && m != j);
+        let same_known = match (a.known_coordinate(j.index()), b.known_coordinate(j.index())) {
             (Some(x), Some(y)) => x == y,
             _ => false,
         };
         same_known
-            && a.defining_planes().any(|plane| {
-                b.defined_on_plane_of(&plane)
-                    && normal_is_zero_on(&plane, m)
-                    && !normal_is_zero_on(&plane, i)
+            && m.is_some_and(|m| {
+                a.defining_planes().any(|plane| {
+                    b.defined_on_plane_of(&plane)
+                        && normal_component_is_zero(&plane, m)
+                        && !normal_component_is_zero(&plane, i)
+                })
             })
     })
 }
@@ -301,7 +296,7 @@ mod tests {
             let [r, s, t] = plane;
             let a = Point::lpi([-0.5, -0.5, -0.5], [0.5, -0.5, 0.5], r, s, t).unwrap();
             let b = Point::lpi([0.5, -0.5, 0.5], [-0.5, -0.5, 0.5], r, s, t).unwrap();
-            assert_eq!(on_one_axis_parallel_line(&a, &b, 0), proven);
+            assert_eq!(on_one_axis_parallel_line(&a, &b, Axis::X), proven);
             for axis in [Axis::X, Axis::Y, Axis::Z] {
                 let k = axis.index();
                 let want = oracle_point(&a)[k].cmp(&oracle_point(&b)[k]);
