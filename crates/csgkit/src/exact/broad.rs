@@ -28,7 +28,7 @@ const SIZE_SAMPLES: usize = 2048;
 
 /// The box of triangle `t`.
 pub(crate) fn triangle_box(input: &Input, t: usize) -> Aabb {
-    Aabb::from_points(input.triangles[t].positions().iter())
+    Aabb::from_points(input.triangle_positions(t).iter())
 }
 
 /// Every pair `(s, t)` with `s < t` of triangles of different operands whose boxes overlap
@@ -61,8 +61,8 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         let (first_a, first_b) = (a.start as u32, b.start as u32);
         tree_a.overlapping_filter_map(&tree_b, |s, t| {
             let (s, t) = (s + first_a, t + first_b);
-            let (x, y) = (&input.triangles[s as usize], &input.triangles[t as usize]);
-            (!planes_separate(x, y)).then_some((s, t))
+            let (x, y) = (input.triangle(s as usize), input.triangle(t as usize));
+            (!planes_separate(&x, &y)).then_some((s, t))
         })
     } else {
         let operand_tree = Bvh::build(&input.operand_boxes);
@@ -77,8 +77,10 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         let tree = Bvh::build_in(near_other.len(), |t| near_other[t], &operand_tree.bounds());
         let mut pairs: Vec<(u32, u32)> = (tree.self_overlapping_pairs().into_par_iter())
             .filter(|&(s, t)| {
-                let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
-                input.operand[s as usize] != input.operand[t as usize] && !planes_separate(a, b)
+                input.operand[s as usize] != input.operand[t as usize] && {
+                    let (a, b) = (input.triangle(s as usize), input.triangle(t as usize));
+                    !planes_separate(&a, &b)
+                }
             })
             .collect();
         pairs
@@ -115,16 +117,19 @@ mod tests {
             let (mut expected, mut overlapping) = (Vec::new(), 0);
             for s in 0..n {
                 for t in s + 1..n {
-                    let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
+                    let (a, b) = (input.triangle(s as usize), input.triangle(t as usize));
                     let boxes = triangle_box(&input, s as usize)
                         .overlaps(&triangle_box(&input, t as usize));
                     if !boxes || input.operand[s as usize] == input.operand[t as usize] {
                         continue;
                     }
                     overlapping += 1;
-                    if planes_separate(a, b) {
+                    if planes_separate(&a, &b) {
                         // What the list leaves out cannot touch.
-                        assert!(matches!(intersect_triangles(a, b), Intersection::Disjoint));
+                        assert!(matches!(
+                            intersect_triangles(&a, &b),
+                            Intersection::Disjoint
+                        ));
                     } else {
                         expected.push((s, t));
                     }

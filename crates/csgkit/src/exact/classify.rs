@@ -321,7 +321,7 @@ fn cast_rays(input: &Input, rays: &[(u32, u32)], counter: &Counter) -> Vec<Vec<(
         let mut windings: Vec<(u32, i32)> = Vec::new();
         for t in hits {
             let k = input.operand[t as usize];
-            let c = crossing(input.triangles[t as usize].positions(), v);
+            let c = crossing(input.triangle_positions(t as usize), v);
             if k == own || c == 0 {
                 continue;
             }
@@ -474,8 +474,12 @@ fn wedge_test(
             .find(|&&v| v != a && v != b)
             .expect("a triangle has three vertices")
     };
-    let plane = |face: u32| input.triangles[arr.source[face as usize] as usize].positions();
-    let drop = |face: u32| input.triangles[arr.source[face as usize] as usize].drop_axis();
+    let plane = |face: u32| input.triangle_positions(arr.source[face as usize] as usize);
+    let drop = |face: u32| {
+        input
+            .triangle(arr.source[face as usize] as usize)
+            .drop_axis()
+    };
     let d = arr.point(input, third(me.face));
     let pa = arr.point(input, a);
     let pb = arr.point(input, b);

@@ -46,7 +46,7 @@ use crate::mesh::{
 };
 use crate::progress::{Cancelled, Progress, Stage};
 
-use super::intersect::Triangle;
+use super::intersect::{IndexedTriangle, Triangle};
 
 /// Why an operand cannot enter the exact engine: it is not a closed, outward solid of finite
 /// coordinates. Every variant names the operand (its index in the order given) and where the
@@ -134,8 +134,9 @@ pub(crate) struct Input {
     pub positions: Vec<Point3>,
     /// The exact power of two every coordinate was multiplied by.
     pub scale: f64,
-    /// All triangles; a triangle's [`Triangle::id`] is its index here.
-    pub triangles: Vec<Triangle>,
+    /// All triangles, by vertex ids into `positions` ([`Input::triangle`] gives one whole,
+    /// its [`Triangle::id`] being its index here).
+    pub triangles: Vec<IndexedTriangle>,
     /// The operand of each triangle.
     pub operand: Vec<u32>,
     /// The original face of each triangle, in its operand.
@@ -164,6 +165,20 @@ impl Input {
     /// The triangle index range of operand `k`.
     pub(crate) fn operand_triangles(&self, k: usize) -> std::ops::Range<usize> {
         self.operand_starts[k] as usize..self.operand_starts[k + 1] as usize
+    }
+
+    /// Triangle `t`, with its positions and its index as id.
+    #[inline]
+    pub(crate) fn triangle(&self, t: usize) -> Triangle {
+        self.triangles[t].with_positions(t as u32, &self.positions)
+    }
+
+    /// The corner positions of triangle `t`.
+    #[inline]
+    pub(crate) fn triangle_positions(&self, t: usize) -> [Point3; 3] {
+        self.triangles[t]
+            .vertices()
+            .map(|v| self.positions[v as usize])
     }
 }
 
@@ -198,7 +213,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
 
     // Each operand's triangles are written once, in place (an indexed parallel extend); the
     // exactly degenerate ones, rare, stay `None` until one in-place pass takes them out.
-    let mut made_faces: (Vec<FaceId>, Vec<Option<Triangle>>) = Default::default();
+    let mut made_faces: (Vec<FaceId>, Vec<Option<IndexedTriangle>>) = Default::default();
     let mut operand = Vec::new();
     let mut degenerate = Vec::new();
     let mut vertex_offset = 0usize;
@@ -210,7 +225,8 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
         let start = made_faces.1.len();
         made_faces.par_extend(triangulation.par_iter().map(|(f, corners)| {
             let ids = welded(corners);
-            (f, Triangle::new(0, ids, ids.map(|v| positions[v as usize])))
+            let made = Triangle::new(0, ids, ids.map(|v| positions[v as usize]));
+            (f, made.map(|t| t.indexed()))
         }));
         let made = &made_faces.1;
         let flat = (made[start..].par_iter().zip(triangulation.par_iter()))
@@ -228,9 +244,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
     // `filter_map` rather than `flatten`: the standard library collects it in place, in the
     // allocation of `made`, where `flatten` would copy every triangle to a new one.
     #[allow(clippy::filter_map_identity)]
-    let triangles: Vec<Triangle> = (made.into_iter().filter_map(|t| t).enumerate())
-        .map(|(id, t)| t.with_id(id as u32))
-        .collect();
+    let triangles: Vec<IndexedTriangle> = made.into_iter().filter_map(|t| t).collect();
     let operand_starts: Vec<u32> = (0..=operands.len())
         .map(|k| operand.partition_point(|&o| (o as usize) < k) as u32)
         .collect();
@@ -238,7 +252,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
         .map(|k| {
             let range = operand_starts[k] as usize..operand_starts[k + 1] as usize;
             (triangles[range].par_iter())
-                .map(|t| Aabb::from_points(t.positions().iter()))
+                .map(|t| Aabb::from_points(t.vertices().iter().map(|&v| &positions[v as usize])))
                 .reduce_with(|a, b| a.union(&b))
                 .unwrap_or(Aabb::EMPTY)
         })
@@ -294,7 +308,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
 }
 
 /// The entries of `per_triangle` whose triangle was made (is not degenerate).
-fn of_made<T>(per_triangle: Vec<T>, made: &[Option<Triangle>]) -> Vec<T> {
+fn of_made<T>(per_triangle: Vec<T>, made: &[Option<IndexedTriangle>]) -> Vec<T> {
     (per_triangle.into_iter().zip(made))
         .filter_map(|(x, t)| t.is_some().then_some(x))
         .collect()
@@ -349,8 +363,10 @@ fn coincident_within_operands(input: &Input, candidates: &[u32]) -> (Vec<u32>, V
 fn without_triangles(input: Input, removed: &[u32]) -> Input {
     let kept = |t: &usize| removed.binary_search(&(*t as u32)).is_err();
     let all = 0..input.triangles.len();
-    let triangles: Vec<Triangle> = (all.clone().filter(kept).enumerate())
-        .map(|(id, t)| input.triangles[t].with_id(id as u32))
+    let triangles: Vec<IndexedTriangle> = all
+        .clone()
+        .filter(kept)
+        .map(|t| input.triangles[t])
         .collect();
     let operand: Vec<u32> = all.clone().filter(kept).map(|t| input.operand[t]).collect();
     let face: Vec<FaceId> = all.filter(kept).map(|t| input.face[t]).collect();
@@ -538,10 +554,9 @@ fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]], neighbours: &mut [u3
 
 /// The signed volume of operand `k` (scaled), by the divergence theorem.
 fn signed_volume(input: &Input, k: usize) -> f64 {
-    let sum: f64 = input.triangles[input.operand_triangles(k)]
-        .par_iter()
+    let sum: f64 = (input.operand_triangles(k).into_par_iter())
         .map(|t| {
-            let [a, b, c] = t.positions();
+            let [a, b, c] = input.triangle_positions(t);
             a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
                 + a[2] * (b[0] * c[1] - b[1] * c[0])
         })
@@ -565,7 +580,9 @@ pub(crate) fn self_intersecting_pairs(
     for k in 0..input.operand_count() {
         let range = input.operand_triangles(k);
         let offset = range.start as u32;
-        let pairs = super::self_intersect::intersecting_pairs(&input.triangles[range]);
+        let pairs = super::self_intersect::intersecting_pairs(range.len(), |i| {
+            input.triangle(range.start + i)
+        });
         all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
         counter.advance(1);
         progress.check()?;
@@ -586,12 +603,17 @@ pub(crate) fn self_intersecting_pairs_at(input: &Input, suspects: &[Point3]) -> 
     for k in 0..input.operand_count() {
         let range = input.operand_triangles(k);
         let offset = range.start as u32;
-        let triangles = &input.triangles[range];
-        let marked: Vec<u32> = (triangles.iter().enumerate())
-            .filter(|(_, t)| t.positions().iter().any(|&p| at.contains(&key(p))))
-            .map(|(i, _)| i as u32)
+        let marked: Vec<u32> = (range.clone())
+            .filter(|&t| {
+                input
+                    .triangle_positions(t)
+                    .iter()
+                    .any(|&p| at.contains(&key(p)))
+            })
+            .map(|t| (t - range.start) as u32)
             .collect();
-        let pairs = super::self_intersect::intersecting_pairs_of(triangles, &marked);
+        let triangle = |i: usize| input.triangle(range.start + i);
+        let pairs = super::self_intersect::intersecting_pairs_of(range.len(), triangle, &marked);
         all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
     }
     all

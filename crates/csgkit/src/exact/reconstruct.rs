@@ -263,8 +263,8 @@ fn source_face(input: &Input, t: u32) -> Provenance {
 
 /// Whether input triangles `s` and `t` lie in one plane, exactly.
 fn coplanar(input: &Input, s: u32, t: u32) -> bool {
-    let [a, b, c] = input.triangles[s as usize].positions();
-    (input.triangles[t as usize].positions())
+    let [a, b, c] = input.triangle_positions(s as usize);
+    (input.triangle_positions(t as usize))
         .into_iter()
         .all(|d| orient3d(a, b, c, d) == Sign::Zero)
 }
@@ -437,7 +437,7 @@ impl Fans {
             }
             let moved = t.map(|x| if x == v { z } else { x });
             let [a, b, c] = moved.map(|x| arr.point(input, x));
-            let source = &input.triangles[self.source[l as usize] as usize];
+            let source = input.triangle(self.source[l as usize] as usize);
             let want = if self.reversed[l as usize] {
                 source.turn().flip()
             } else {

@@ -116,7 +116,7 @@ pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
     let (faces, triangles, invalid_polygons) = triangles(mesh);
     // Triangles of one face never count against each other: the pair is dropped here rather
     // than in `intersecting_pairs`, which knows nothing of faces.
-    let mut pairs: Vec<(FaceId, FaceId)> = intersecting_pairs(&triangles)
+    let mut pairs: Vec<(FaceId, FaceId)> = intersecting_pairs(triangles.len(), |i| triangles[i])
         .into_iter()
         .filter_map(|(i, j)| {
             let (f, g) = (faces[i as usize], faces[j as usize]);
@@ -135,23 +135,28 @@ pub fn self_intersections(mesh: &Mesh) -> SelfIntersections {
     }
 }
 
-/// Pairs `(i, j)`, `i < j`, of triangles (indices into `triangles`) that intersect other than
-/// along what they share: exactly the pairs [`self_intersections`] counts (the rules of the
-/// [module docs](self), without the face grouping of polygons). Sorted, deduplicated.
+/// Pairs `(i, j)`, `i < j`, of the `count` triangles `triangle(0..count)` that intersect
+/// other than along what they share: exactly the pairs [`self_intersections`] counts (the
+/// rules of the [module docs](self), without the face grouping of polygons). Sorted,
+/// deduplicated.
 ///
-/// The exact boolean engine runs it on each operand's prepared triangles, so it takes them
-/// as they are: vertex ids must be welded (equal positions have equal ids), because the
-/// shared vertices of a pair are found by id; [`Triangle::id`] is not used.
-pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
-    let box_of = |i: usize| Aabb::from_points(triangles[i].positions().iter());
-    let (bvh, order) = Bvh::build_with(triangles.len(), box_of).into_tree_order();
+/// The exact boolean engine runs it on each operand's prepared triangles, which it keeps by
+/// vertex ids (`triangle` looks their positions up), so it takes them as they are: vertex ids
+/// must be welded (equal positions have equal ids), because the shared vertices of a pair
+/// are found by id; [`Triangle::id`] is not used.
+pub(crate) fn intersecting_pairs(
+    count: usize,
+    triangle: impl Fn(usize) -> Triangle + Sync,
+) -> Vec<(u32, u32)> {
+    let box_of = |i: usize| Aabb::from_points(triangle(i).positions().iter());
+    let (bvh, order) = Bvh::build_with(count, box_of).into_tree_order();
     // Triangles in the tree's order, so that the walk reads them almost sequentially.
     let sorted: Vec<Prepared> = (order.par_iter())
-        .map(|&i| Prepared::new(&triangles[i as usize]))
+        .map(|&i| Prepared::new(&triangle(i as usize)))
         .collect();
     let input = |x: u32| order[x as usize];
     let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
-        let full = || (&triangles[input(x) as usize], &triangles[input(y) as usize]);
+        let full = || (triangle(input(x) as usize), triangle(input(y) as usize));
         counts(&sorted[x as usize], &sorted[y as usize], full).then(|| {
             let (i, j) = (input(x), input(y));
             (i.min(j), i.max(j))
@@ -163,14 +168,21 @@ pub(crate) fn intersecting_pairs(triangles: &[Triangle]) -> Vec<(u32, u32)> {
 }
 
 /// The pairs of [`intersecting_pairs`] with at least one triangle in `marked` (sorted
-/// indices into `triangles`): a tree over all triangles, queried by each marked one. For a
+/// indices of `triangle`'s): a tree over all triangles, queried by each marked one. For a
 /// mesh known to be free of self-intersections except near a few triangles (the certify
 /// stage's moved faces), at a fraction of the cost of the whole check.
-pub(crate) fn intersecting_pairs_of(triangles: &[Triangle], marked: &[u32]) -> Vec<(u32, u32)> {
-    let box_of = |i: usize| Aabb::from_points(triangles[i].positions().iter());
-    let bvh = Bvh::build_with(triangles.len(), box_of);
+pub(crate) fn intersecting_pairs_of(
+    count: usize,
+    triangle: impl Fn(usize) -> Triangle + Sync,
+    marked: &[u32],
+) -> Vec<(u32, u32)> {
+    let box_of = |i: usize| Aabb::from_points(triangle(i).positions().iter());
+    let bvh = Bvh::build_with(count, box_of);
     let is_marked = |j: u32| marked.binary_search(&j).is_ok();
-    let prepared: Vec<Prepared> = triangles.par_iter().map(Prepared::new).collect();
+    let prepared: Vec<Prepared> = (0..count)
+        .into_par_iter()
+        .map(|i| Prepared::new(&triangle(i)))
+        .collect();
     let mut pairs: Vec<(u32, u32)> = par::chunks(marked, |chunk, hits| {
         for &i in chunk {
             let a = &prepared[i as usize];
@@ -179,7 +191,7 @@ pub(crate) fn intersecting_pairs_of(triangles: &[Triangle], marked: &[u32]) -> V
                 if j == i || (j < i && is_marked(j)) {
                     return;
                 }
-                let full = || (&triangles[i as usize], &triangles[j as usize]);
+                let full = || (triangle(i as usize), triangle(j as usize));
                 if counts(a, &prepared[j as usize], full) {
                     hits.push((i.min(j), i.max(j)));
                 }
@@ -194,7 +206,7 @@ pub(crate) fn intersecting_pairs_of(triangles: &[Triangle], marked: &[u32]) -> V
 /// Whether two triangles of one mesh count as intersecting ([`intersecting_pairs`]'s rules,
 /// for one pair).
 pub(crate) fn pair_intersects(a: &Triangle, b: &Triangle) -> bool {
-    counts(&Prepared::new(a), &Prepared::new(b), || (a, b))
+    counts(&Prepared::new(a), &Prepared::new(b), || (*a, *b))
 }
 
 /// The non-degenerate triangles of `mesh` with welded vertex ids, the face of each, and the
@@ -236,11 +248,7 @@ fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>, Vec<PolygonError>) {
 /// The rest goes to [`intersect_triangles`].
 ///
 /// `full` gives the two triangles, which only the rare cases read.
-fn counts<'t>(
-    a: &Prepared,
-    b: &Prepared,
-    full: impl FnOnce() -> (&'t Triangle, &'t Triangle),
-) -> bool {
+fn counts(a: &Prepared, b: &Prepared, full: impl FnOnce() -> (Triangle, Triangle)) -> bool {
     let (va, vb) = (a.vertices, b.vertices);
     // Bit i: vertex i of `b` is a vertex of `a`. Without branches: along a walk the sharing
     // pattern of consecutive pairs is unpredictable.
@@ -257,7 +265,7 @@ fn counts<'t>(
             let k = (!shared & 7).trailing_zeros() as usize;
             side(a, pb[k]) == Some(Sign::Zero) && {
                 let (ta, tb) = full();
-                folded_over(ta, tb)
+                folded_over(&ta, &tb)
             }
         }
         1 => {
@@ -269,7 +277,7 @@ fn counts<'t>(
             if s1 == s2 {
                 return s1 == Sign::Zero && {
                     let (ta, tb) = full();
-                    wedges_overlap(ta, tb)
+                    wedges_overlap(&ta, &tb)
                 };
             }
             let j = usize::from(va[1] == vb[k]) + 2 * usize::from(va[2] == vb[k]);
@@ -286,7 +294,7 @@ fn counts<'t>(
             }
             !is_separated() && {
                 let (ta, tb) = full();
-                by_classification(ta, tb, 1)
+                by_classification(&ta, &tb, 1)
             }
         }
         _ => {
@@ -296,7 +304,7 @@ fn counts<'t>(
             };
             !one_side(a, &pb) && !one_side(b, &pa) && !is_separated() && {
                 let (ta, tb) = full();
-                by_classification(ta, tb, 0)
+                by_classification(&ta, &tb, 0)
             }
         }
     }
@@ -626,11 +634,11 @@ mod tests {
     ) -> Result<(), TestCaseError> {
         let (pa, pb) = (Prepared::new(ta), Prepared::new(tb));
         prop_assert_eq!(
-            counts(&pa, &pb, || (ta, tb)),
+            counts(&pa, &pb, || (*ta, *tb)),
             by_classification(ta, tb, share)
         );
         prop_assert_eq!(
-            counts(&pb, &pa, || (tb, ta)),
+            counts(&pb, &pa, || (*tb, *ta)),
             by_classification(tb, ta, share)
         );
         Ok(())
@@ -820,7 +828,10 @@ mod tests {
         /// The broad phase and the shortcuts lose no pair and add none.
         #[test]
         fn intersecting_pairs_match_brute_force(triangles in welded_soup()) {
-            prop_assert_eq!(intersecting_pairs(&triangles), brute_force_pairs(&triangles));
+            prop_assert_eq!(
+                intersecting_pairs(triangles.len(), |i| triangles[i]),
+                brute_force_pairs(&triangles)
+            );
         }
     }
 

@@ -104,8 +104,8 @@ pub(crate) fn intersect_pairs(
     let counter = progress.counter(Stage::Intersect, pairs.len());
     let found: Vec<PairContacts> = counter.par_chunks(pairs, |chunk, out| {
         out.extend(chunk.iter().filter_map(|&(s, t)| {
-            let (a, b) = (&input.triangles[s as usize], &input.triangles[t as usize]);
-            contacts_of(a, b, intersect_triangles(a, b))
+            let (a, b) = (input.triangle(s as usize), input.triangle(t as usize));
+            contacts_of(&a, &b, intersect_triangles(&a, &b))
         }));
     });
     counter.finish()?;
@@ -441,7 +441,7 @@ fn split_one(
     contact_points: &[Point],
 ) -> Result<TriangleSplit, StageError> {
     let t = group[0].0;
-    let tri = &input.triangles[t as usize];
+    let tri = input.triangle(t as usize);
     // Local ids: corners 0..3, then points in first-seen order; `global` holds their ids.
     let mut global: Vec<u32> = tri.vertices().to_vec();
     let mut local_of: FxHashMap<u32, u32> = (global.iter().enumerate())
@@ -510,7 +510,7 @@ fn cut_crossing_segments(
     if segments.len() < 2 {
         return Vec::new();
     }
-    let tri = &input.triangles[t as usize];
+    let tri = input.triangle(t as usize);
     let corners = tri.positions().map(Point::Explicit);
     let point = |points: &[Point], v: u32| -> Point {
         match (v as usize).checked_sub(3) {
@@ -598,8 +598,8 @@ fn cut_crossing_segments(
 /// The point where segments carried by `sa` and `sb` cross inside triangle `t`, with its
 /// canonical key; `None` for two segments on the same edge line (no single point).
 fn crossing_point(input: &Input, t: u32, sa: Support, sb: Support) -> Option<(PointKey, Point)> {
-    let tri = &input.triangles[t as usize];
-    let corners = |u: u32| input.triangles[u as usize].positions();
+    let tri = input.triangle(t as usize);
+    let corners = |u: u32| input.triangle_positions(u as usize);
     let pos = |e: [u32; 2]| e.map(|v| input.positions[v as usize]);
     match (sa, sb) {
         (Support::Plane(u), Support::Plane(w)) => {

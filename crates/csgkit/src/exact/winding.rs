@@ -123,7 +123,7 @@ pub(crate) struct SamplePoint {
 impl<'a> RayCaster<'a> {
     pub(crate) fn new(input: &'a Input) -> Self {
         let tree = Bvh::build_with(input.triangles.len(), |t| {
-            Aabb::from_points(input.triangles[t].positions().iter())
+            Aabb::from_points(input.triangle_positions(t).iter())
         });
         Self { input, tree }
     }
@@ -131,7 +131,7 @@ impl<'a> RayCaster<'a> {
     /// The winding numbers just in front of `at` (on the side its triangle's normal points
     /// to), and the triangles through it.
     pub(crate) fn cast(&self, at: &SamplePoint) -> Sample {
-        let tri = &self.input.triangles[at.source as usize];
+        let tri = self.input.triangle(at.source as usize);
         let axis = tri.drop_axis();
         let a = axis.index();
         let (u, v) = ((a + 1) % 3, (a + 2) % 3);
@@ -157,9 +157,9 @@ impl<'a> RayCaster<'a> {
         let c2 = [at.c[u], at.c[v]];
         let mut sample = Sample::default();
         self.tree.visit_overlapping(&query, |t| {
-            let other = &self.input.triangles[t as usize];
+            let other = self.input.triangle(t as usize);
             let k = self.input.operand[t as usize];
-            match ray_meets(other, [u, v], c2, &at.p, turn) {
+            match ray_meets(&other, [u, v], c2, &at.p, turn) {
                 RayHit::Miss => {}
                 RayHit::Through(sigma) => sample.coincident.push((t, sigma)),
                 RayHit::Crossing(sigma) => match sample.front.iter_mut().find(|e| e.0 == k) {
@@ -254,7 +254,7 @@ fn sample_point_near(
     corners: &[Point; 3],
     approx: [Point3; 3],
 ) -> Option<SamplePoint> {
-    let tri = &input.triangles[source as usize];
+    let tri = input.triangle(source as usize);
     let axis = tri.drop_axis();
     let a = axis.index();
     let turn = tri.turn();
@@ -445,7 +445,7 @@ fn propagate_to_slivers(
                 continue;
             }
             let source = arr.source[s as usize];
-            let plane = input.triangles[source as usize].positions();
+            let plane = input.triangle_positions(source as usize);
             let tri = arr.triangles[s as usize];
             for i in 0..3 {
                 let (a, b, z) = (tri[i], tri[(i + 1) % 3], tri[(i + 2) % 3]);
@@ -588,7 +588,7 @@ fn sliver_stack(
     tree: &Bvh,
     s: u32,
 ) -> (Vec<(u32, i32)>, Vec<u32>) {
-    let source = &input.triangles[arr.source[s as usize] as usize];
+    let source = input.triangle(arr.source[s as usize] as usize);
     let plane = source.positions();
     let axis = source.drop_axis();
     let turn = source.turn();
@@ -597,7 +597,7 @@ fn sliver_stack(
     let mut coincident = Vec::new();
     let mut stack = Vec::new();
     tree.visit_overlapping(&Aabb::from_points(plane.iter()), |u| {
-        let q = input.triangles[u as usize].positions();
+        let q = input.triangle_positions(u as usize);
         if (q.iter()).any(|&x| orient3d(plane[0], plane[1], plane[2], x) != Sign::Zero) {
             return;
         }
@@ -689,7 +689,7 @@ fn decide(
 
 /// The patch of the sub-triangle of input triangle `t` whose projection contains `c`.
 fn patch_at(input: &Input, arr: &Arrangement, patch_of: &[u32], t: u32, c: &Point3) -> Option<u32> {
-    let tri = &input.triangles[t as usize];
+    let tri = input.triangle(t as usize);
     let axis = tri.drop_axis();
     let turn = tri.turn();
     let at = Point::Explicit(*c);
@@ -736,7 +736,7 @@ pub(crate) fn has_nested_shells(input: &Input) -> bool {
     }
     let caster = RayCaster::new(input);
     firsts.par_iter().any(|&t| {
-        let corners = input.triangles[t as usize].positions().map(Point::Explicit);
+        let corners = input.triangle_positions(t as usize).map(Point::Explicit);
         let own = input.operand[t as usize];
         match sample_point(input, t, &corners) {
             Some(at) => (caster.cast(&at).front.iter()).any(|&(k, w)| k == own && w != 0),

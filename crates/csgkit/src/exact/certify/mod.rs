@@ -469,13 +469,14 @@ fn problems_among(
         .filter(|(_, t)| is_suspect(near[t.id() as usize]))
         .map(|(i, _)| i as u32)
         .collect();
-    let pairs: Vec<(u32, u32)> = (super::self_intersect::intersecting_pairs_of(&valid, &marked)
-        .into_iter())
-    .map(|(s, t)| {
-        let face = |i: u32| near[valid[i as usize].id() as usize];
-        (face(s), face(t))
-    })
-    .collect();
+    let pairs: Vec<(u32, u32)> =
+        (super::self_intersect::intersecting_pairs_of(valid.len(), |i| valid[i], &marked)
+            .into_iter())
+        .map(|(s, t)| {
+            let face = |i: u32| near[valid[i as usize].id() as usize];
+            (face(s), face(t))
+        })
+        .collect();
     let mut to_snap: Vec<u32> = (pairs.iter())
         .flat_map(|&(s, t)| [s, t])
         .chain(degenerate.iter().copied())
