@@ -488,43 +488,51 @@ fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]], neighbours: &mut [u3
         }
     };
     // One record per side, bucketed by its smaller vertex (a counting sort: linear, unlike one
-    // sort of all sides), then each small bucket sorted by its larger vertex. `bounds[v + 1]`
-    // counts bucket `v`, then (summed) is where it starts; placing a side moves its bucket's
-    // start one on, so that afterwards `bounds[v]` is where bucket `v` ends.
+    // sort of all sides), then each small bucket sorted by its larger vertex. Buckets span the
+    // operand's own smaller ends only (each operand's vertices are mostly a range of the
+    // welded ids, so two operands do not each pass over all of them). `bounds[b + 1]` counts
+    // bucket `b`, then (summed) is where it starts; placing a side moves its bucket's start
+    // one on, so that afterwards `bounds[b]` is where bucket `b` ends.
     let all_sides = side_count + flat.len();
-    let vertex_count = input.positions.len();
-    let mut bounds = vec![0u32; vertex_count + 1];
-    for side in 0..all_sides {
+    let smaller = |side: usize| {
         let [a, b] = ends(side);
-        bounds[a.min(b) as usize + 1] += 1;
+        a.min(b)
+    };
+    let (lowest, highest) = (0..all_sides)
+        .map(smaller)
+        .fold((u32::MAX, 0), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let bucket_count = (highest as usize + 1).saturating_sub(lowest as usize);
+    let mut bounds = vec![0u32; bucket_count + 1];
+    for side in 0..all_sides {
+        bounds[(smaller(side) - lowest) as usize + 1] += 1;
     }
-    for v in 1..bounds.len() {
-        bounds[v] += bounds[v - 1];
+    for b in 1..bounds.len() {
+        bounds[b] += bounds[b - 1];
     }
     // (larger vertex, side << 1 | forward).
     let mut sides = vec![(0u32, 0u32); all_sides];
     for side in 0..all_sides {
         let [a, b] = ends(side);
-        let slot = &mut bounds[a.min(b) as usize];
+        let slot = &mut bounds[(a.min(b) - lowest) as usize];
         sides[*slot as usize] = (a.max(b), (side as u32) << 1 | u32::from(a < b));
         *slot += 1;
     }
-    let bucket = |v: usize| {
-        let start = if v == 0 { 0 } else { bounds[v - 1] };
-        start as usize..bounds[v] as usize
+    let bucket = |b: usize| {
+        let start = if b == 0 { 0 } else { bounds[b - 1] };
+        start as usize..bounds[b] as usize
     };
-    let mut blocks = Vec::with_capacity(vertex_count.div_ceil(BLOCK));
+    let mut blocks = Vec::with_capacity(bucket_count.div_ceil(BLOCK));
     let mut rest = sides.as_mut_slice();
-    for first in (0..vertex_count).step_by(BLOCK) {
-        let last = (first + BLOCK).min(vertex_count) - 1;
+    for first in (0..bucket_count).step_by(BLOCK) {
+        let last = (first + BLOCK).min(bucket_count) - 1;
         let (block, tail) = rest.split_at_mut(bucket(last).end - bucket(first).start);
         blocks.push((first..last + 1, block));
         rest = tail;
     }
-    blocks.par_iter_mut().for_each(|(vertices, block)| {
-        let base = bucket(vertices.start).start;
-        for v in vertices.clone() {
-            let own = bucket(v);
+    blocks.par_iter_mut().for_each(|(buckets, block)| {
+        let base = bucket(buckets.start).start;
+        for b in buckets.clone() {
+            let own = bucket(b);
             block[own.start - base..own.end - base].sort_unstable();
         }
     });
@@ -532,13 +540,13 @@ fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]], neighbours: &mut [u3
         count: 0,
         first: Vec::new(),
     };
-    for smaller in 0..vertex_count {
-        for run in sides[bucket(smaller)].chunk_by(|s, t| s.0 == t.0) {
+    for b in 0..bucket_count {
+        for run in sides[bucket(b)].chunk_by(|s, t| s.0 == t.0) {
             let forward = run.iter().filter(|s| s.1 & 1 == 1).count();
             if 2 * forward != run.len() {
                 unbalanced.count += 1;
                 if unbalanced.first.len() < ERROR_EXAMPLES {
-                    unbalanced.first.push([smaller as u32, run[0].0]);
+                    unbalanced.first.push([lowest + b as u32, run[0].0]);
                 }
             } else if let [r, s] = run {
                 let (p, q) = ((r.1 >> 1) as usize, (s.1 >> 1) as usize);
