@@ -96,11 +96,11 @@ const DELAUNAY_BEFORE_SEGMENTS: usize = 8;
 /// Menger sponge) sent every test to its adaptive stages, which clear some 9 KB of buffers
 /// per call. Flipping only on certain signs still ends: each flip is a Lawson flip by the
 /// exact answer for these points.
+///
+/// The in-circle test comes first and the four flatness tests only where it asks for a flip:
+/// most quadrilaterals a Lawson pass visits are already Delaunay, and the answer is the same
+/// in either order (every test can only refuse).
 fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
-    if is_flat(pa, pb, pc) || is_flat(pb, pd, pc) || is_flat(pa, pb, pd) || is_flat(pa, pd, pc) {
-        return false;
-    }
-    // Not flat, so the filter proves the turn of `a b c`.
     let (Some(turn), Some(inside)) = (
         orient2d_value_if_clear(pa, pb, pc),
         incircle_value_if_clear(pa, pb, pc, pd),
@@ -108,6 +108,10 @@ fn delaunay_flip([pa, pb, pc, pd]: [[f64; 2]; 4]) -> bool {
         return false;
     };
     inside * turn > 0.0
+        && !(is_flat(pa, pb, pc)
+            || is_flat(pb, pd, pc)
+            || is_flat(pa, pb, pd)
+            || is_flat(pa, pd, pc))
 }
 
 /// How [`Cdt::flip_while`] decides that a quadrilateral is strictly convex, so that its
