@@ -475,11 +475,7 @@ fn wedge_test(
             .expect("a triangle has three vertices")
     };
     let plane = |face: u32| input.triangle_positions(arr.source[face as usize] as usize);
-    let drop = |face: u32| {
-        input
-            .triangle(arr.source[face as usize] as usize)
-            .drop_axis()
-    };
+    let drop = |face: u32| input.triangles[arr.source[face as usize] as usize].drop_axis();
     let d = arr.point(input, third(me.face));
     let pa = arr.point(input, a);
     let pb = arr.point(input, b);

@@ -248,15 +248,6 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
     let operand_starts: Vec<u32> = (0..=operands.len())
         .map(|k| operand.partition_point(|&o| (o as usize) < k) as u32)
         .collect();
-    let operand_boxes = (0..operands.len())
-        .map(|k| {
-            let range = operand_starts[k] as usize..operand_starts[k + 1] as usize;
-            (triangles[range].par_iter())
-                .map(|t| Aabb::from_points(t.vertices().iter().map(|&v| &positions[v as usize])))
-                .reduce_with(|a, b| a.union(&b))
-                .unwrap_or(Aabb::EMPTY)
-        })
-        .collect();
     let mut input = Input {
         positions,
         scale,
@@ -264,10 +255,18 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
         operand,
         face,
         operand_starts,
-        operand_boxes,
+        operand_boxes: Vec::new(),
         neighbours: Vec::new(),
         has_repeats: false,
     };
+    input.operand_boxes = (0..operands.len())
+        .map(|k| {
+            (input.operand_triangles(k).into_par_iter())
+                .map(|t| Aabb::from_points(input.triangle_positions(t).iter()))
+                .reduce_with(|a, b| a.union(&b))
+                .unwrap_or(Aabb::EMPTY)
+        })
+        .collect();
     let offsets = vertex_offsets(operands);
     let link = |input: &Input| link_edges(input, &degenerate, operands, &welding.remap, &offsets);
     let dropped = match link(&input) {

@@ -212,6 +212,11 @@ impl IndexedTriangle {
         self.vertices
     }
 
+    /// [`Triangle::drop_axis`] of the whole triangle.
+    pub(crate) fn drop_axis(&self) -> Axis {
+        self.drop
+    }
+
     /// The full triangle with id `id`, its corners at `positions[v]` for its vertex ids `v`
     /// (the array it was made from).
     #[inline]
@@ -526,10 +531,10 @@ fn transversal(a: &Triangle, b: &Triangle, sa: &[Sign; 3], sb: &[Sign; 3]) -> In
     // turned by 1e-7 rad) go to the exact stages, and the overlap below meets the same pairs
     // of ends again.
     let ends_a = first_axis(&ca[0].point, &ca[1].point);
-    let ends_b = ends_a
-        .is_none()
-        .then(|| first_axis(&cb[0].point, &cb[1].point))
-        .flatten();
+    let ends_b = match ends_a {
+        None => first_axis(&cb[0].point, &cb[1].point),
+        Some(_) => None,
+    };
     let axis = (ends_a.or(ends_b).map(|(axis, _)| axis))
         .or_else(|| first_axis(&ca[0].point, &cb[0].point).map(|(axis, _)| axis));
     let Some(axis) = axis else {

@@ -244,18 +244,17 @@ pub fn compare_along(a: &Point, b: &Point, axis: Axis) -> Ordering {
 fn on_one_axis_parallel_line(a: &Point, b: &Point, i: Axis) -> bool {
     const AXES: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
     AXES.into_iter().filter(|&j| j != i).any(|j| {
-        let m = AXES.into_iter().find(|&m| m != i && m != j);
+        // The third axis: the indices of the three sum to 3.
+        let m = AXES[3 - i.index() - j.index()];
         let same_known = match (a.known_coordinate(j.index()), b.known_coordinate(j.index())) {
             (Some(x), Some(y)) => x == y,
             _ => false,
         };
         same_known
-            && m.is_some_and(|m| {
-                a.defining_planes().any(|plane| {
-                    b.defined_on_plane_of(&plane)
-                        && normal_component_is_zero(&plane, m)
-                        && !normal_component_is_zero(&plane, i)
-                })
+            && a.defining_planes().any(|plane| {
+                b.defined_on_plane_of(&plane)
+                    && normal_component_is_zero(&plane, m)
+                    && !normal_component_is_zero(&plane, i)
             })
     })
 }
