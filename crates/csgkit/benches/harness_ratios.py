@@ -8,8 +8,11 @@
 
 Correctness is the harness's own judgement (its `annotate`: valid, and the volume within 1e-4
 of the reference). Ratio = csgkit's op time / the fastest correct peer's op time, medians of
-the timed runs. Prints one Markdown table per family and the geometric mean over every
-boolean case where csgkit and a peer are correct; with --plot, op time against input
+the timed runs; the peers are every row whose name does not start with "csgkit", so a second
+csgkit build run in the same invocation (`--peer-cmd 'csgkit-plain=BIN {op} {inputs} -o {out}
+--stats'`) is not its own peer, and `--ours csgkit-plain` gives its ratios. Prints one
+Markdown table per family and the geometric mean over every boolean case where csgkit and a
+peer are correct; with --plot, op time against input
 triangles for the sphere_sphere_union and menger families, every peer on one log-log plot,
 with the growth exponent of each (least squares on the logs). matplotlib: pip install it into
 the same venv.
@@ -25,6 +28,7 @@ def main():
     ap.add_argument("--peers-dir", required=True)
     ap.add_argument("--results", required=True, help="the run's --results-dir")
     ap.add_argument("--plot", help="write the scaling plot to this PNG")
+    ap.add_argument("--ours", default="csgkit", help="the row whose ratios are printed")
     args = ap.parse_args()
     plot_path = os.path.abspath(args.plot) if args.plot else None
     sys.path.insert(0, os.path.abspath(args.peers_dir))
@@ -39,8 +43,8 @@ def main():
         meta = results["cases"].get(name, {})
         if meta.get("family", "").startswith("voxelize"):
             continue
-        ours = by_peer.get("csgkit")
-        peers = {p: r for p, r in by_peer.items() if p not in ("csgkit", "csgkit-boxes") and r.get("correct")}
+        ours = by_peer.get(args.ours)
+        peers = {p: r for p, r in by_peer.items() if not p.startswith("csgkit") and r.get("correct")}
         best = min(peers.items(), key=lambda kv: kv[1]["op_s"], default=None)
         ok = bool(ours and ours.get("correct"))
         ratio = ours["op_s"] / best[1]["op_s"] if ok and best else None
