@@ -171,7 +171,9 @@ impl Walk<'_> {
     /// Two inner nodes, the common case, are expanded inline (the same child pairs in the same
     /// order as [`Walk::children`]): the walk spends about as long here as in the leaf tests.
     fn descend(self, root: (usize, usize), visit: &mut impl FnMut(u32, u32)) {
-        let mut stack = Vec::with_capacity(64);
+        // On the call stack: a walk runs one descent per frontier pair, up to
+        // `FRONTIER_TARGET` of them, and a heap buffer each cost as much as a small walk.
+        let mut stack: SmallVec<[(usize, usize); 64]> = SmallVec::new();
         stack.push(root);
         while let Some((a, b)) = stack.pop() {
             match (self.a.is_leaf(a), self.b.is_leaf(b)) {
