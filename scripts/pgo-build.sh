@@ -11,7 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 rustup component add llvm-tools >/dev/null
 sysroot="$(rustc --print sysroot)"
-profdata="$(find "$sysroot/lib/rustlib" -name llvm-profdata -type f | head -n 1)"
+profdata="$(find "$sysroot/lib/rustlib" -name llvm-profdata -type f -print -quit)"
 if [[ -z "$profdata" ]]; then
     echo "pgo-build.sh: llvm-profdata not found under $sysroot" >&2
     exit 1
