@@ -2,18 +2,20 @@
 """The training workload of the profile-guided build (scripts/pgo-build.sh).
 
 Runs an instrumented csgkit over booleans of the kinds users run, so that the profile it
-writes tells the compiler which paths are hot: two cubes touching (on a face, an edge, a
-vertex, overlapping) and turned by tiny and large angles, OpenSCAD spheres of 12 to 500
-segments offset from each other, models of ../shared/data/meshes (when that folder is
-present) against a cylinder and against a turned copy, a cube drilled by 81 cylinders, a
-level-2 Menger sponge built from cubes, the plain CLI on the resulting files, and repair.
-It deliberately uses none of the peers harness's cases (other sizes, angles and models), so
-the profile does not fit the benchmark it is measured on.
+writes tells the compiler which paths are hot: two boxes touching (on a face, an edge, a
+vertex, overlapping, equal) and turned by tiny and large angles, OpenSCAD spheres of 12 to
+500 segments offset from each other, models of ../shared/data/meshes (when that folder is
+present) against a cylinder through their centre and against a turned copy, a cube drilled
+by 81 cylinders, a level-2 Menger sponge built from cubes, the plain CLI on the resulting
+files, and repair. It deliberately uses none of the peers harness's cases (boxes of other
+sizes, other angles, sphere sizes and models), so the profile does not fit the benchmark it
+is measured on.
 
 Usage: pgo_train.py CSGKIT [--data DIR] [--work DIR]
 Exits non-zero if any run fails: a profile of errors would optimise the wrong paths.
 """
 import argparse
+import contextlib
 import json
 import math
 import pathlib
@@ -51,14 +53,36 @@ def sponge_level_2():
     return {"difference": [{"cube": {"size": 1, "center": True}}] + holes}
 
 
+def centre(path):
+    """The centre of the bounding box of an OBJ or OFF file's vertices."""
+    lines = path.read_text().splitlines()
+    if path.suffix == ".obj":
+        points = [line.split()[1:4] for line in lines if line.startswith("v ")]
+    else:  # OFF: a header line, the counts, then the vertices
+        body = [line for line in lines if line.strip() and not line.startswith("#")]
+        count = int(body[1].split()[0])
+        points = [line.split()[:3] for line in body[2:2 + count]]
+    coords = [[float(x) for x in p] for p in points]
+    return [(min(c[i] for c in coords) + max(c[i] for c in coords)) / 2 for i in range(3)]
+
+
+def turned_about(point, axis, angle, shift):
+    """A turn about `point` (not the origin), then a shift."""
+    m = transform(axis, angle)
+    return [m[i][:3] + [point[i] - sum(m[i][j] * point[j] for j in range(3)) + shift[i]]
+            for i in range(3)]
+
+
 def scenes(data):
-    cube = {"cube": {"size": 1}}
+    box = {"cube": {"size": [1, 1.25, 0.75]}}
+    other = {"cube": {"size": [0.8, 1.1, 0.9]}}
     for op in OPERATIONS:
         for i, (axis, angle) in enumerate([("z", 3e-7), ("x", 2e-6), ("y", 0.4), ("z", 1e-4)]):
-            yield f"turned_{op}_{i}", {op: [cube, dict(cube, transform=transform(axis, angle))]}
-        for i, offset in enumerate([(0.5, 0, 0), (1, 0, 0), (1, 1, 0), (1, 1, 1),
-                                    (0.3, 0.2, 0), (0, 0, 0), (0.25, 0.25, 0.25)]):
-            yield f"touching_{op}_{i}", {op: [cube, dict(cube, transform=transform(offset=offset))]}
+            yield f"turned_{op}_{i}", {op: [box, dict(box, transform=transform(axis, angle))]}
+        for i, offset in enumerate([(0.5, 0.2, 0.1), (1, 0, 0), (1, 1.25, 0), (1, 1.25, 0.75),
+                                    (0.3, 0.2, 0), (0, 0, 0), (0.25, 0.25, -0.15)]):
+            yield f"touching_{op}_{i}", {op: [box, dict(other, transform=transform(offset=offset))]}
+        yield f"equal_{op}", {op: [box, box]}
         for segments in (12, 40, 90, 200, 500):
             sphere = {"sphere": {"r": 1, "segments": segments}}
             yield f"spheres_{op}_{segments}", {op: [
@@ -67,11 +91,12 @@ def scenes(data):
             path = data / name
             if not path.exists():
                 continue
-            model = {"mesh": str(path)}
+            model, middle = {"mesh": str(path)}, centre(path)
             yield f"{path.stem}_cylinder_{op}", {op: [
-                model, {"cylinder": {"r": 0.05, "h": 10, "segments": 48, "center": True}}]}
+                model, {"cylinder": {"r": 0.05, "h": 1000, "segments": 48, "center": True},
+                        "transform": transform(offset=middle)}]}
             yield f"{path.stem}_turned_{op}", {op: [
-                model, dict(model, transform=transform("x", 0.2, (0.01, 0.02, 0.0)))]}
+                model, dict(model, transform=turned_about(middle, "x", 0.2, (0.01, 0.02, 0.0)))]}
     yield "sponge_2", sponge_level_2()
     yield "drilled", {"difference": [{"cube": {"size": 2, "center": True}}] + [
         {"cylinder": {"r": 0.1, "h": 3, "segments": 24, "center": True},
@@ -93,11 +118,12 @@ def main():
     parser.add_argument("--work", default=None, help="where scenes and outputs go (a temporary "
                                                      "folder by default)")
     args = parser.parse_args()
-    data = pathlib.Path(args.data)
+    data = pathlib.Path(args.data).resolve()
     if not data.is_dir():
         print(f"pgo_train.py: {data} is absent: training without the models", file=sys.stderr)
-    with tempfile.TemporaryDirectory() as tmp:
-        work = pathlib.Path(args.work or tmp)
+    given = contextlib.nullcontext(args.work) if args.work else tempfile.TemporaryDirectory()
+    with given as folder:
+        work = pathlib.Path(folder)
         work.mkdir(parents=True, exist_ok=True)
         count = 0
         for name, scene in scenes(data):
@@ -112,7 +138,7 @@ def main():
                 run([args.csgkit, op, work / f"{a}.obj", work / f"{b}.obj",
                      "-o", work / f"cli_{op}.obj", "--stats"])
                 count += 1
-        for name in ("self_intersectA.obj", "self_intersectB.obj"):
+        for name in ("joined_tetrahedra.obj", "block.obj"):
             if (data / name).exists():
                 run([args.csgkit, "repair", data / name, "-o", work / "repaired.obj"])
                 count += 1

@@ -44,7 +44,8 @@ def main():
         if meta.get("family", "").startswith("voxelize"):
             continue
         ours = by_peer.get(args.ours)
-        peers = {p: r for p, r in by_peer.items() if not p.startswith("csgkit") and r.get("correct")}
+        peers = {p: r for p, r in by_peer.items()
+                 if p != args.ours and not p.startswith("csgkit") and r.get("correct")}
         best = min(peers.items(), key=lambda kv: kv[1]["op_s"], default=None)
         ok = bool(ours and ours.get("correct"))
         ratio = ours["op_s"] / best[1]["op_s"] if ok and best else None
@@ -53,7 +54,7 @@ def main():
         rows.setdefault(meta.get("family", "?"), []).append((meta.get("column", name), name, ours, best, ok, ratio))
     for family, entries in sorted(rows.items()):
         print(f"\n#### {family}\n")
-        print("| case | csgkit | fastest correct peer | ratio |\n|---|---|---|---|")
+        print(f"| case | {args.ours} | fastest correct peer | ratio |\n|---|---|---|---|")
         for column, name, ours, best, ok, ratio in sorted(entries, key=lambda e: e[1]):
             mine = "—" if not ours else f"{bench.fmt_t(ours.get('op_s'))} {'✔' if ok else '⚠ ' + ours.get('status', '')}"
             theirs = f"{best[0]} {bench.fmt_t(best[1]['op_s'])}" if best else "none correct"

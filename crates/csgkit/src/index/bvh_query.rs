@@ -172,7 +172,7 @@ impl Walk<'_> {
     /// order as [`Walk::children`]): the walk spends about as long here as in the leaf tests.
     fn descend(self, root: (usize, usize), visit: &mut impl FnMut(u32, u32)) {
         // On the call stack: a walk runs one descent per frontier pair, up to
-        // `FRONTIER_TARGET` of them, and a heap buffer each cost as much as a small walk.
+        // `FRONTIER_TARGET` of them, and each heap buffer cost as much as a small walk.
         let mut stack: SmallVec<[(usize, usize); 64]> = SmallVec::new();
         stack.push(root);
         while let Some((a, b)) = stack.pop() {
