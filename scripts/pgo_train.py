@@ -53,17 +53,13 @@ def sponge_level_2():
     return {"difference": [{"cube": {"size": 1, "center": True}}] + holes}
 
 
-def centre(path):
-    """The centre of the bounding box of an OBJ or OFF file's vertices."""
-    lines = path.read_text().splitlines()
-    if path.suffix == ".obj":
-        points = [line.split()[1:4] for line in lines if line.startswith("v ")]
-    else:  # OFF: a header line, the counts, then the vertices
-        body = [line for line in lines if line.strip() and not line.startswith("#")]
-        count = int(body[1].split()[0])
-        points = [line.split()[:3] for line in body[2:2 + count]]
-    coords = [[float(x) for x in p] for p in points]
-    return [(min(c[i] for c in coords) + max(c[i] for c in coords)) / 2 for i in range(3)]
+def centre(csgkit, path):
+    """The centre of a mesh file's bounding box, as `csgkit info` prints the box (any format
+    csgkit reads; a few digits are enough to aim a cylinder)."""
+    info = subprocess.run([csgkit, "info", path], capture_output=True, text=True, check=True)
+    box = next(line for line in info.stdout.splitlines() if line.startswith("bbox:"))
+    low, high = (json.loads(corner) for corner in box.split(":", 1)[1].split(".."))
+    return [(a + b) / 2 for a, b in zip(low, high)]
 
 
 def turned_about(point, axis, angle, shift):
@@ -73,7 +69,7 @@ def turned_about(point, axis, angle, shift):
             for i in range(3)]
 
 
-def scenes(data):
+def scenes(csgkit, data):
     box = {"cube": {"size": [1, 1.25, 0.75]}}
     other = {"cube": {"size": [0.8, 1.1, 0.9]}}
     for op in OPERATIONS:
@@ -91,7 +87,7 @@ def scenes(data):
             path = data / name
             if not path.exists():
                 continue
-            model, middle = {"mesh": str(path)}, centre(path)
+            model, middle = {"mesh": str(path)}, centre(csgkit, path)
             yield f"{path.stem}_cylinder_{op}", {op: [
                 model, {"cylinder": {"r": 0.05, "h": 1000, "segments": 48, "center": True},
                         "transform": transform(offset=middle)}]}
@@ -126,7 +122,7 @@ def main():
         work = pathlib.Path(folder)
         work.mkdir(parents=True, exist_ok=True)
         count = 0
-        for name, scene in scenes(data):
+        for name, scene in scenes(args.csgkit, data):
             path = work / f"{name}.json"
             path.write_text(json.dumps(scene))
             run([args.csgkit, "csg", path, "-o", work / f"{name}.obj", "--stats"])
