@@ -79,6 +79,20 @@ fn lpi_on_plane(r: &mut Rng) -> ([Point3; 3], Point) {
     }
 }
 
+/// An LPI of random coordinates against its own plane's triangle with one corner moved by one
+/// ulp: a non-zero near-tie below what f64 resolves (as between the intersection points of
+/// two cubes turned by 1e-7 rad), which the double-double stage decides.
+fn lpi_near_plane(r: &mut Rng) -> ([Point3; 3], Point) {
+    loop {
+        let tri = [r.p3(), r.p3(), r.p3()];
+        if let Some(p) = Point::lpi(r.p3(), r.p3(), tri[0], tri[1], tri[2]) {
+            let mut other = tri;
+            other[2][2] = f64::from_bits(other[2][2].to_bits() + 1);
+            return (other, p);
+        }
+    }
+}
+
 /// A TPI of three planes through an integer point, with another triangle spanning one of
 /// the planes.
 fn tpi_on_plane(r: &mut Rng) -> ([Point3; 3], Point) {
@@ -139,6 +153,15 @@ fn bench_kernel(c: &mut Criterion) {
     g.bench_function(BenchmarkId::new("orient3d_plane_lpi", "on_plane"), |b| {
         b.iter(|| {
             for (t, p) in &lpi_degenerate {
+                black_box(orient3d_plane(t[0], t[1], t[2], p));
+            }
+        })
+    });
+
+    let lpi_near: Vec<([Point3; 3], Point)> = (0..N).map(|_| lpi_near_plane(&mut r)).collect();
+    g.bench_function(BenchmarkId::new("orient3d_plane_lpi", "near_plane"), |b| {
+        b.iter(|| {
+            for (t, p) in &lpi_near {
                 black_box(orient3d_plane(t[0], t[1], t[2], p));
             }
         })

@@ -1,6 +1,7 @@
-//! The four number types of the predicate cascade behind one trait, so that each polynomial
+//! The five number types of the predicate cascade behind one trait, so that each polynomial
 //! is written once: [`Interval`] (filter), [`Wide`] (128-bit integers, exact while no
-//! operation overflows), [`Expansion`] (exact while no product underflows or overflows) and
+//! operation overflows), [`DoubleDouble`] (about 106 bits and an error bound, never zero),
+//! [`Expansion`] (exact while no product underflows or overflows) and
 //! [`Big`] (exact big integers, for every finite input); and [`Fixed`] (384-bit integers,
 //! exact while no operation overflows), which rounding tries before [`Big`].
 
@@ -8,6 +9,7 @@ use num_bigint::BigInt;
 use num_traits::{CheckedAdd, CheckedMul, CheckedSub, Zero};
 
 use super::Sign;
+use super::double_double::DoubleDouble;
 use super::expansion::Expansion;
 use super::interval::Interval;
 
@@ -36,6 +38,25 @@ impl Arith for Interval {
     #[inline]
     fn sign(&self) -> Option<Sign> {
         Interval::sign(self)
+    }
+}
+
+impl Arith for DoubleDouble {
+    #[inline]
+    fn add(&self, o: &Self) -> Self {
+        DoubleDouble::add(self, o)
+    }
+    #[inline]
+    fn sub(&self, o: &Self) -> Self {
+        DoubleDouble::sub(self, o)
+    }
+    #[inline]
+    fn mul(&self, o: &Self) -> Self {
+        DoubleDouble::mul(self, o)
+    }
+    #[inline]
+    fn sign(&self) -> Option<Sign> {
+        DoubleDouble::sign(self)
     }
 }
 

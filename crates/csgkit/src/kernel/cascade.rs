@@ -1,18 +1,20 @@
 //! The cascade that decides every predicate: interval filter, then 128-bit integers where the
-//! inputs have few significant bits, then floating-point expansions, then big integers,
-//! stopping at the first stage that decides (see the [module docs](super) for the numeric
-//! model).
+//! inputs have few significant bits, then double-doubles with an error bound (non-zero
+//! near-ties), then floating-point expansions, then big integers, stopping at the first stage
+//! that decides (see the [module docs](super) for the numeric model).
 //!
 //! A predicate is a [`Formula`]: one generic polynomial in the homogeneous coordinates of some
 //! points and in some explicit coordinates, written once over [`Arith`] and evaluated in
 //! [`Interval`]s (from the points' cached coordinates, no allocation), then in 128-bit
-//! integers ([`Wide`]), then in [`Expansion`]s, then in big integers ([`Big`]).
+//! integers ([`Wide`]), then in [`DoubleDouble`]s, then in [`Expansion`]s, then in big
+//! integers ([`Big`]).
 //!
 //! The cascade sees points only through [`Homogeneous`], so it sits below the point types:
 //! `implicit` builds a point by deciding the sign of its `W` here, and `formulas` and
 //! `predicates` above it write their polynomials on those points.
 
 use super::arith::{Arith, Big, Wide, decompose, exponent, scaled_expansion};
+use super::double_double::DoubleDouble;
 use super::expansion::Expansion;
 use super::interval::Interval;
 use super::{Sign, expansion_top_exponent};
@@ -30,6 +32,11 @@ pub(crate) trait Homogeneous {
     /// The homogeneous coordinates as expansions of the inputs scaled by `2^scale`, when the
     /// point keeps them at hand (a point met by many predicates); `None` to compute them.
     fn hom_expansion(&self, _scale: i32) -> Option<[Expansion; 4]> {
+        None
+    }
+    /// The homogeneous coordinates as double-doubles, when the point keeps them at hand;
+    /// `None` to compute them.
+    fn hom_double_double(&self) -> Option<[DoubleDouble; 4]> {
         None
     }
 }
@@ -76,10 +83,13 @@ pub(crate) fn filter(f: &impl Formula) -> Option<Sign> {
         .sign()
 }
 
-/// Stages 2–4 of the cascade.
+/// Stages 2–5 of the cascade.
 fn decide_exact(f: &impl Formula) -> Sign {
     let (top, e_low) = scan(f);
     if let Some(s) = integer_stage(f, top, e_low) {
+        return s;
+    }
+    if let Some(s) = double_double_stage(f) {
         return s;
     }
     match expansion_stage(f, top) {
@@ -126,7 +136,16 @@ fn scan(f: &impl Formula) -> (i32, i32) {
     }
 }
 
-/// Stage 3: expansions after scaling the largest input to `2^T` (see
+/// Stage 3: double-doubles with a running error bound, for the near-ties f64 cannot see
+/// (never zero: those go on).
+fn double_double_stage<F: Formula>(f: &F) -> Option<Sign> {
+    let one = DoubleDouble::exact(1.0);
+    let hom =
+        |p: &F::Point| (p.hom_double_double()).unwrap_or_else(|| p.hom(&DoubleDouble::exact, &one));
+    f.eval::<DoubleDouble>(&hom, &DoubleDouble::exact).sign()
+}
+
+/// Stage 4: expansions after scaling the largest input to `2^T` (see
 /// [`expansion_bit_span`](super::expansion_bit_span)); `None` if a product may have
 /// underflowed.
 fn expansion_stage<F: Formula>(f: &F, top: i32) -> Option<Sign> {
@@ -137,7 +156,7 @@ fn expansion_stage<F: Formula>(f: &F, top: i32) -> Option<Sign> {
     f.eval::<Expansion>(&hom, &conv).sign()
 }
 
-/// Stage 4: big integers, exact for every finite input.
+/// Stage 5: big integers, exact for every finite input.
 fn big_stage(f: &impl Formula, e_low: i32) -> Sign {
     let conv = |x: f64| Big::scaled(x, e_low);
     let one = Big::one();
@@ -146,10 +165,10 @@ fn big_stage(f: &impl Formula, e_low: i32) -> Sign {
         .expect("big integers always decide")
 }
 
-/// What each stage of the cascade answers on its own: filter, 128-bit integers, expansions,
-/// big integers.
+/// What each stage of the cascade answers on its own: filter, 128-bit integers,
+/// double-doubles, expansions, big integers.
 #[cfg(test)]
-pub(crate) fn stages(f: &impl Formula) -> [Option<Sign>; 4] {
+pub(crate) fn stages(f: &impl Formula) -> [Option<Sign>; 5] {
     let filter = f
         .eval::<Interval>(&|p| p.filter_hom(), &Interval::exact)
         .sign();
@@ -157,6 +176,7 @@ pub(crate) fn stages(f: &impl Formula) -> [Option<Sign>; 4] {
     [
         filter,
         integer_stage(f, top, e_low),
+        double_double_stage(f),
         expansion_stage(f, top),
         Some(big_stage(f, e_low)),
     ]

@@ -11,12 +11,14 @@
 
 use std::cell::RefCell;
 use std::collections::hash_map::Entry;
+use std::thread::LocalKey;
 
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
 use super::arith::Arith;
 use super::cascade::{Formula, Homogeneous, decide};
+use super::double_double::DoubleDouble;
 use super::expansion::Expansion;
 use super::interval::{Interval, next_down, next_up};
 use super::nearby::Nearby;
@@ -416,40 +418,62 @@ impl Homogeneous for Point {
     /// An implicit point's expansions from this thread's [`EXACT_HOM`] cache, computed and
     /// compressed on first use.
     fn hom_expansion(&self, scale: i32) -> Option<[Expansion; 4]> {
-        if self.is_explicit() || !self.coords().iter().all(|&x| in_cache_range(x)) {
+        if !self.coords().iter().all(|&x| in_cache_range(x)) {
             return None;
         }
-        let key: HomKey = self.coords().iter().map(|x| x.to_bits()).collect();
-        EXACT_HOM.with(|cache| {
-            let mut cache = cache.borrow_mut();
-            if cache.len() >= EXACT_HOM_CAPACITY && !cache.contains_key(&key) {
-                cache.clear();
-            }
-            // One hash of the key, hit or miss.
-            let [x, y, z, w] = match cache.entry(key) {
-                Entry::Occupied(found) => found.into_mut(),
-                Entry::Vacant(slot) => {
-                    let one = Expansion::exact(1.0);
-                    let hom = self.hom(&Expansion::exact, &one);
-                    // A product that may have underflowed unscaled: the caller's scaled
-                    // inputs decide instead.
-                    if hom.iter().any(|h| h.sign().is_none()) {
-                        return None;
-                    }
-                    slot.insert(hom.map(|h| h.compressed()))
-                }
-            };
-            // Inputs scaled by 2^s scale a coordinate of degree d by 2^(s d); W has the
-            // degree of the point's definition, X, Y and Z one more.
-            let w_degree = self.w_degree() as i32;
+        let compute = || {
+            let one = Expansion::exact(1.0);
+            let hom = self.hom(&Expansion::exact, &one);
+            // A product that may have underflowed unscaled: the caller's scaled inputs
+            // decide instead.
+            (hom.iter().all(|h| h.sign().is_some())).then(|| hom.map(|h| h.compressed()))
+        };
+        // Inputs scaled by 2^s scale a coordinate of degree d by 2^(s d); W has the degree
+        // of the point's definition, X, Y and Z one more.
+        let w_degree = self.w_degree() as i32;
+        let scaled = |[x, y, z, w]: &[Expansion; 4]| {
             Some([
                 x.scaled_by_pow2(scale * (w_degree + 1))?,
                 y.scaled_by_pow2(scale * (w_degree + 1))?,
                 z.scaled_by_pow2(scale * (w_degree + 1))?,
                 w.scaled_by_pow2(scale * w_degree)?,
             ])
-        })
+        };
+        cached(&EXACT_HOM, self, compute, scaled)?
     }
+
+    /// An implicit point's double-doubles from this thread's [`DOUBLE_DOUBLE_HOM`] cache,
+    /// computed on first use.
+    fn hom_double_double(&self) -> Option<[DoubleDouble; 4]> {
+        let compute = || Some(self.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0)));
+        cached(&DOUBLE_DOUBLE_HOM, self, compute, |hom| *hom)
+    }
+}
+
+/// `read` of `point`'s entry in a thread's cache of homogeneous coordinates (`None` for an
+/// explicit point, which has its coordinates at hand), made by `compute` on a miss (`None`:
+/// nothing to cache). A full cache starts again.
+fn cached<T, R>(
+    cache: &'static LocalKey<RefCell<FxHashMap<HomKey, T>>>,
+    point: &Point,
+    compute: impl FnOnce() -> Option<T>,
+    read: impl FnOnce(&T) -> R,
+) -> Option<R> {
+    if point.is_explicit() {
+        return None;
+    }
+    let key: HomKey = point.coords().iter().map(|x| x.to_bits()).collect();
+    cache.with(|cache| {
+        let mut cache = cache.borrow_mut();
+        if cache.len() >= HOM_CACHE_CAPACITY && !cache.contains_key(&key) {
+            cache.clear();
+        }
+        // One hash of the key, hit or miss.
+        match cache.entry(key) {
+            Entry::Occupied(found) => Some(read(found.get())),
+            Entry::Vacant(slot) => Some(read(slot.insert(compute()?))),
+        }
+    })
 }
 
 /// Whether an input coordinate is 0 or of magnitude in `[2^-60, 2^60]`: then a point's
@@ -467,7 +491,7 @@ type HomKey = SmallVec<[u64; 27]>;
 
 /// Implicit points a thread's cache holds before it starts again: thousands of points, a few
 /// megabytes of expansions at most.
-const EXACT_HOM_CAPACITY: usize = 4096;
+const HOM_CACHE_CAPACITY: usize = 4096;
 
 thread_local! {
     /// Per thread, the exact homogeneous coordinates of the implicit points the expansion
@@ -477,6 +501,12 @@ thread_local! {
     /// point's coordinates as expansions costs most of each such predicate (a [`Tpi`]'s `X`
     /// is a degree-7 polynomial); a compressed copy also makes every product with it short.
     static EXACT_HOM: RefCell<FxHashMap<HomKey, [Expansion; 4]>> =
+        RefCell::new(FxHashMap::default());
+
+    /// Per thread, the double-double homogeneous coordinates of the implicit points the
+    /// double-double stage has met: the same runs, where the coordinates cost far more than
+    /// the predicate's own products.
+    static DOUBLE_DOUBLE_HOM: RefCell<FxHashMap<HomKey, [DoubleDouble; 4]>> =
         RefCell::new(FxHashMap::default());
 }
 

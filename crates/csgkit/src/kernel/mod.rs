@@ -76,16 +76,21 @@
 //!    is evaluated in `i128` with checked operations (`arith.rs`, `Wide`); an overflow leaves
 //!    it undecided. This is the fixed-width integer predicate of EMBER (Trettner et al. 2022),
 //!    chosen per call from the inputs instead of by a global grid, so nothing is rounded.
-//! 3. **Expansions** — Shewchuk's exact floating-point expansions (`expansion.rs`), after
+//! 3. **Double-doubles** — the polynomial in double-double arithmetic with a running error
+//!    bound (`double_double.rs`): about 106 bits, enough for the near-ties of nearly
+//!    coincident faces (points 1e-15 apart), at a fraction of the cost of expansions.
+//!    Implicit points cache their double-double coordinates per thread. Never answers zero.
+//! 4. **Expansions** — Shewchuk's exact floating-point expansions (`expansion.rs`), after
 //!    scaling all inputs of the call by one power of two (exact; the polynomial is homogeneous,
 //!    so the sign is unchanged). Exact unless a product underflows, which is detected.
-//! 4. **Big integers** — every input is an integer times `2^e_min`; evaluation in `num-bigint`
+//! 5. **Big integers** — every input is an integer times `2^e_min`; evaluation in `num-bigint`
 //!    is exact for every finite input.
 //!
 //! # Layout
 //! The files depend on each other in one direction, bottom to top:
-//! - `interval.rs`, `expansion.rs`, `arith.rs`: the four number types behind one trait;
-//! - `cascade.rs`: stages 1–4 for any `Formula`, a polynomial over points it sees only as
+//! - `interval.rs`, `double_double.rs`, `expansion.rs`, `arith.rs`: the five number types
+//!   behind one trait;
+//! - `cascade.rs`: stages 1–5 for any `Formula`, a polynomial over points it sees only as
 //!   homogeneous coordinates;
 //! - `nearby.rs`: Cartesian coordinates to within a known error, and the `orient2d` and
 //!   coordinate-order filters on them that the predicates try before the cascade (far
@@ -103,11 +108,12 @@
 //! tens of microseconds (big integers, rare: wide bit spans or degree above 20).
 //!
 //! # Valid input range
-//! Every finite f64 ([`MAX_ALLOWED_VALUE`]): stages 1 and 4 have no range limit. NaN and
+//! Every finite f64 ([`MAX_ALLOWED_VALUE`]): stages 1 and 5 have no range limit; stage 3
+//! leaves undecided whatever leaves its range. NaN and
 //! infinity are a precondition violation (ingest rejects them); a debug assertion checks.
-//! Stage 3 is guaranteed to decide when the *bit span* of the call's inputs — the exponent of
+//! Stage 4 is guaranteed to decide when the *bit span* of the call's inputs — the exponent of
 //! the largest magnitude minus the exponent of the lowest set bit of any nonzero input — is at
-//! most [`expansion_bit_span`]`(degree)`; beyond, stage 4 decides, slower but still exact. See
+//! most [`expansion_bit_span`]`(degree)`; beyond, stage 5 decides, slower but still exact. See
 //! [`expansion_bit_span`] for the derivation and [`MAX_DEGREE`] for the highest degree.
 //!
 //! # Sign conventions
@@ -119,6 +125,7 @@
 
 mod arith;
 mod cascade;
+mod double_double;
 mod expansion;
 mod formulas;
 mod implicit;

@@ -64,9 +64,15 @@ const AXES: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
 fn check_stages(f: &impl Formula, want: Sign, what: &dyn Fn() -> String) {
     let got = stages(f);
 
-    for (stage, s) in ["filter", "128-bit integers", "expansions", "big integers"]
-        .iter()
-        .zip(got)
+    for (stage, s) in [
+        "filter",
+        "128-bit integers",
+        "double-doubles",
+        "expansions",
+        "big integers",
+    ]
+    .iter()
+    .zip(got)
     {
         if let Some(s) = s {
             assert_eq!(s, want, "{stage} disagrees with the oracle on {}", what());
@@ -785,7 +791,7 @@ fn big_integer_stage_handles_the_full_range() {
         b: &b,
         axis: 0,
     };
-    assert_eq!(stages(&f)[3], Some(Sign::Negative));
+    assert_eq!(stages(&f)[4], Some(Sign::Negative));
     let big = BigInt::from(1) << 2000;
     assert!(big > BigInt::from(0));
 }

@@ -1,0 +1,314 @@
+//! Double-double numbers with a running error bound: the cascade's stage between the f64
+//! filter and the exact stages.
+//!
+//! # Why
+//! Most predicates the interval filter leaves undecided are not zero, only closer to zero
+//! than f64 can see: two unit cubes turned by 1e-7 rad meet in intersection points 1e-15
+//! apart, whose orientations and coordinate orders are non-zero far above the 106 bits of a
+//! double-double. The exact stages decide them too, but multiply expansions of dozens of
+//! components for each (the coordinates of a three-plane point have degree 7); a
+//! double-double operation is some twenty f64 operations. Exact zeros are left to the exact
+//! stages: this stage never answers zero.
+//!
+//! # Numeric model
+//! A [`DoubleDouble`] is an unevaluated sum `hi + lo` (`|lo| <= ulp(hi) / 2`, as the
+//! algorithms below leave it) and a radius `err`: the exact value of the expression lies in
+//! `[hi + lo - err, hi + lo + err]`. Addition is Algorithm 6 (AccurateDWPlusDW) and
+//! multiplication Algorithm 10 (DWTimesDW1, no fused multiply-add) of Joldes, Muller &
+//! Popescu, "Tight and rigorous error bounds for basic building blocks of double-word
+//! arithmetic" (ACM TOMS 44, 2017): relative errors at most `3u² + 13u³` and `7u²`
+//! (`u = 2^-53`) against the exact operation on the operands' double-double values, as long
+//! as nothing underflows or overflows. Each operation charges its result's radius
+//! [`RELATIVE_ERROR`] times `|hi|` (several times those bounds) plus [`ABSOLUTE_ERROR`] (far
+//! above what gradual underflow of a partial product can lose), on top of the operands'
+//! propagated radii (`err_a + err_b` for a sum, `|a| err_b + |b| err_a + err_a err_b` for a
+//! product); every term of the radius is rounded up by one ulp (`next_up`), as the interval
+//! filter does, so it stays an upper bound.
+//!
+//! Range: a result whose `hi` is non-zero outside `[2^-400, 2^400]` has a NaN radius, which
+//! makes every later result's radius NaN and [`DoubleDouble::sign`] undecided: Dekker's
+//! product is exact while products stay far above the subnormal range and the split far
+//! below overflow, which this keeps with hundreds of bits to spare.
+
+use super::Sign;
+use super::interval::next_up;
+
+/// The charge of one operation, relative to `|hi|` of its result: `2^-100` is over four
+/// times the `7u²` bound of the product and over twenty times the sum's.
+const RELATIVE_ERROR: f64 = f64::from_bits((1023 - 100) << 52);
+
+/// The absolute charge of one operation: more than any underflowed partial product loses
+/// (`2^-1074` each) and below any magnitude a valid result can have.
+const ABSOLUTE_ERROR: f64 = f64::from_bits((1023 - 1000) << 52);
+
+/// The smallest and largest magnitude of a valid non-zero `hi`.
+const LOWEST: f64 = f64::from_bits((1023 - 400) << 52);
+const HIGHEST: f64 = f64::from_bits((1023 + 400) << 52);
+
+/// A double-double value with an error bound (see the module docs).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct DoubleDouble {
+    hi: f64,
+    lo: f64,
+    err: f64,
+}
+
+impl DoubleDouble {
+    /// An input f64, exact.
+    #[inline]
+    pub(crate) fn exact(x: f64) -> Self {
+        DoubleDouble {
+            hi: x,
+            lo: 0.0,
+            err: 0.0,
+        }
+        .checked()
+    }
+
+    /// The sign of every number within the radius, or `None` when they differ, the value may
+    /// be zero, or a result left the valid range.
+    #[inline]
+    pub(crate) fn sign(&self) -> Option<Sign> {
+        // |hi + lo - value| <= err, so hi beyond |lo| + err fixes the sign.
+        let margin = next_up(self.lo.abs() + self.err);
+        if self.hi > margin {
+            Some(Sign::Positive)
+        } else if -self.hi > margin {
+            Some(Sign::Negative)
+        } else {
+            None
+        }
+    }
+
+    #[inline]
+    pub(crate) fn add(&self, o: &Self) -> Self {
+        // AccurateDWPlusDW.
+        let (sh, sl) = two_sum(self.hi, o.hi);
+        let (th, tl) = two_sum(self.lo, o.lo);
+        let (vh, vl) = fast_two_sum(sh, sl + th);
+        let (hi, lo) = fast_two_sum(vh, tl + vl);
+        let err = next_up(self.err + o.err);
+        DoubleDouble {
+            hi,
+            lo,
+            err: next_up(err + charge(hi)),
+        }
+        .checked()
+    }
+
+    #[inline]
+    pub(crate) fn sub(&self, o: &Self) -> Self {
+        self.add(&DoubleDouble {
+            hi: -o.hi,
+            lo: -o.lo,
+            err: o.err,
+        })
+    }
+
+    #[inline]
+    pub(crate) fn mul(&self, o: &Self) -> Self {
+        // DWTimesDW1.
+        let (ch, cl1) = two_prod(self.hi, o.hi);
+        let cl2 = self.hi * o.lo + self.lo * o.hi;
+        let (hi, lo) = fast_two_sum(ch, cl1 + cl2);
+        let (a, b) = (self.magnitude(), o.magnitude());
+        let propagated = next_up(next_up(a * o.err) + next_up(b * self.err));
+        let propagated = next_up(propagated + next_up(self.err * o.err));
+        DoubleDouble {
+            hi,
+            lo,
+            err: next_up(propagated + charge(hi)),
+        }
+        .checked()
+    }
+
+    /// An upper bound of `|hi + lo|`.
+    #[inline]
+    fn magnitude(&self) -> f64 {
+        next_up(self.hi.abs() + self.lo.abs())
+    }
+
+    /// `self`, or with a NaN radius when `hi` left the valid range.
+    #[inline]
+    fn checked(self) -> Self {
+        let magnitude = self.hi.abs();
+        if self.hi == 0.0 || (LOWEST..=HIGHEST).contains(&magnitude) {
+            self
+        } else {
+            DoubleDouble {
+                err: f64::NAN,
+                ..self
+            }
+        }
+    }
+}
+
+/// One operation's rounding error bound for a result whose high part is `hi`.
+#[inline]
+fn charge(hi: f64) -> f64 {
+    next_up(next_up(hi.abs() * RELATIVE_ERROR) + ABSOLUTE_ERROR)
+}
+
+/// Knuth's TwoSum: `s + e == a + b` exactly.
+#[inline]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// Dekker's Fast2Sum: `s + e == a + b` exactly when `a`'s exponent is at least `b`'s.
+#[inline]
+fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    (s, b - (s - a))
+}
+
+/// Veltkamp's split of `a` into two halves of 26 bits each.
+#[inline]
+fn split(a: f64) -> (f64, f64) {
+    let c = 134_217_729.0 * a; // 2^27 + 1
+    let high = c - (c - a);
+    (high, a - high)
+}
+
+/// Dekker's TwoProduct: `p + e == a b` exactly (within the valid range).
+#[inline]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    let (ah, al) = split(a);
+    let (bh, bl) = split(b);
+    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::oracle::q;
+    use num_rational::BigRational;
+    use proptest::prelude::*;
+
+    #[test]
+    fn a_tie_far_below_f64_is_decided() {
+        // (1 + 2^-60) - 1 - 2^-60 · (1 - 2^-30): 2^-90, 37 bits below what f64 resolves.
+        let one = DoubleDouble::exact(1.0);
+        let tiny = DoubleDouble::exact(2f64.powi(-60));
+        let almost = DoubleDouble::exact(1.0 - 2f64.powi(-30));
+        let value = one.add(&tiny).sub(&one).sub(&tiny.mul(&almost));
+        assert_eq!(value.sign(), Some(Sign::Positive));
+        // An exact zero is never claimed.
+        assert_eq!(one.add(&tiny).sub(&one).sub(&tiny).sign(), None);
+    }
+
+    #[test]
+    fn out_of_range_results_are_undecided() {
+        let big = DoubleDouble::exact(2f64.powi(300));
+        assert_eq!(big.sign(), Some(Sign::Positive));
+        assert_eq!(big.mul(&big).sign(), None);
+        let small = DoubleDouble::exact(2f64.powi(-300));
+        assert_eq!(small.sign(), Some(Sign::Positive));
+        assert_eq!(small.mul(&small).sign(), None);
+        assert_eq!(DoubleDouble::exact(f64::MIN_POSITIVE).sign(), None);
+    }
+
+    /// A random expression over a few inputs: sums of products of sums, where the f64 filter
+    /// loses most of its bits to cancellation.
+    fn evaluate(xs: &[f64], ops: &[u8]) -> (DoubleDouble, BigRational) {
+        let mut dd = DoubleDouble::exact(xs[0]);
+        let mut exact = q(xs[0]);
+        for (i, &op) in ops.iter().enumerate() {
+            let x = xs[(i + 1) % xs.len()];
+            let (dx, qx) = (DoubleDouble::exact(x), q(x));
+            match op % 3 {
+                0 => (dd, exact) = (dd.add(&dx), exact + qx),
+                1 => (dd, exact) = (dd.sub(&dx), exact - qx),
+                _ => (dd, exact) = (dd.mul(&dx), exact * qx),
+            }
+        }
+        (dd, exact)
+    }
+
+    fn sign_of(x: &BigRational) -> Sign {
+        use num_traits::Signed;
+        if x.is_positive() {
+            Sign::Positive
+        } else if x.is_negative() {
+            Sign::Negative
+        } else {
+            Sign::Zero
+        }
+    }
+
+    proptest! {
+        #![proptest_config(crate::kernel::tests::config(3000, 0x6464_6b65_726e_0001))]
+
+        /// Whenever the stage decides, it agrees with exact rationals. The value is one
+        /// expression at some inputs minus the same expression at inputs a few ulps away:
+        /// a difference far below what f64 resolves (or exactly zero), as between two
+        /// intersection points of nearly coincident faces.
+        #[test]
+        fn decided_signs_are_exact(
+            xs in prop::collection::vec(-4.0f64..4.0, 2..5),
+            nudges in prop::collection::vec(-3i64..=3, 2..5),
+            ops in prop::collection::vec(any::<u8>(), 1..14),
+        ) {
+            let nudged: Vec<f64> = (xs.iter().zip(nudges.iter().cycle()))
+                .map(|(&x, &n)| f64::from_bits((x.to_bits() as i64 + n) as u64))
+                .collect();
+            let (dd, exact) = evaluate(&xs, &ops);
+            let (dd_nudged, exact_nudged) = evaluate(&nudged, &ops);
+            let exact = exact - exact_nudged;
+            match dd.sub(&dd_nudged).sign() {
+                Some(s) => prop_assert_eq!(s, sign_of(&exact)),
+                None => prop_assert!(!is_decided_by_f64(&xs, &nudged, &ops)),
+            }
+        }
+    }
+
+    /// Whether the interval filter decides the difference of [`decided_signs_are_exact`]:
+    /// where it does, the double-double stage must too.
+    fn is_decided_by_f64(xs: &[f64], nudged: &[f64], ops: &[u8]) -> bool {
+        use crate::kernel::interval::Interval;
+        let run = |xs: &[f64]| {
+            let mut value = Interval::exact(xs[0]);
+            for (i, &op) in ops.iter().enumerate() {
+                let x = Interval::exact(xs[(i + 1) % xs.len()]);
+                value = match op % 3 {
+                    0 => value.add(&x),
+                    1 => value.sub(&x),
+                    _ => value.mul(&x),
+                };
+            }
+            value
+        };
+        run(xs).sub(&run(nudged)).sign().is_some()
+    }
+
+    /// How often the stage decides where the f64 filter cannot, on the inputs of
+    /// [`decided_signs_are_exact`]: nearly always, or it would only cost time.
+    #[test]
+    fn near_ties_are_mostly_decided() {
+        let mut next = crate::kernel::tests::xorshift(0x6464_6b65_726e_0002);
+        let (mut ties, mut decided) = (0, 0);
+        for _ in 0..2000 {
+            let mut uniform = || (next() >> 11) as f64 / (1u64 << 53) as f64 * 8.0 - 4.0;
+            let xs: Vec<f64> = (0..4).map(|_| uniform()).collect();
+            let nudged: Vec<f64> = (xs.iter().enumerate())
+                .map(|(i, &x)| f64::from_bits(x.to_bits() + 1 + i as u64 % 2))
+                .collect();
+            let ops: Vec<u8> = (0..8).map(|_| (next() % 3) as u8).collect();
+            if is_decided_by_f64(&xs, &nudged, &ops) {
+                continue;
+            }
+            ties += 1;
+            let (dd, _) = evaluate(&xs, &ops);
+            let (dd_nudged, _) = evaluate(&nudged, &ops);
+            decided += usize::from(dd.sub(&dd_nudged).sign().is_some());
+        }
+        assert!(ties > 1000, "{ties} of 2000 differences are f64 ties");
+        assert!(
+            decided * 100 >= ties * 95,
+            "{decided} of {ties} ties decided"
+        );
+    }
+}
