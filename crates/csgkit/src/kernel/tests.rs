@@ -795,3 +795,23 @@ fn big_integer_stage_handles_the_full_range() {
     let big = BigInt::from(1) << 2000;
     assert!(big > BigInt::from(0));
 }
+
+/// A crossing of an edge that lies in a tilted plane is on that plane, as the oracle says:
+/// `orient3d_plane` proves the zero from the edge's ends when the filter cannot.
+#[test]
+fn a_crossing_of_an_edge_in_a_plane_is_on_it() {
+    // The plane z = x + 2 y, and an edge in it crossing a tilted plane.
+    let (a, b, c) = ([0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 2.0]);
+    let (p, q) = ([0.125, 0.375, 0.875], [1.5, -0.25, 1.0]);
+    let (r, s, t) = ([0.7, -5.0, -5.0], [0.7, 5.0, -5.0], [0.71, 0.0, 5.0]);
+    let x = Point::lpi(p, q, r, s, t).expect("the edge crosses the plane");
+    let want = oracle_orient3d(&q3(&a), &q3(&b), &q3(&c), &oracle_point(&x));
+    assert_eq!(want, Sign::Zero);
+    assert_eq!(orient3d_plane(a, b, c, &x), Sign::Zero);
+    // Off the plane by the last bit of one end: no longer zero, and the sign is the oracle's.
+    let q_off = [1.5, -0.25, f64::from_bits(1.0f64.to_bits() + 1)];
+    let y = Point::lpi(p, q_off, r, s, t).expect("the edge crosses the plane");
+    let want = oracle_orient3d(&q3(&a), &q3(&b), &q3(&c), &oracle_point(&y));
+    assert_ne!(want, Sign::Zero);
+    assert_eq!(orient3d_plane(a, b, c, &y), want);
+}
