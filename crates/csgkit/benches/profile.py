@@ -10,8 +10,9 @@ CLI: first with --stats (op time and stage seconds, median of three runs), then 
 `perf record -e cpu-clock` (software sampling: this machine has no hardware counters), and
 sorts the samples by source file, which follows inlined code to the file it came from. The
 kernel's files are its cascade's tiers: interval.rs is the filter, arith.rs the 128-bit
-integer stage (and the big-integer glue), expansion.rs the expansions, num-bigint the big
-integers, and robust the explicit orient2d / orient3d shortcut. Prints Markdown tables.
+integer stage (and the big-integer glue), double_double.rs the double-doubles, expansion.rs
+the expansions, num-bigint the big integers, and robust the explicit orient2d / orient3d
+shortcut. Prints Markdown tables.
 Needs `perf` (Debian package linux-perf) and a build with line tables: the `profiling` profile
 (release with `debug = 1`).
 """
@@ -38,6 +39,7 @@ DEFAULT_CASES = [
 TIERS = [
     ("predicates: filter (kernel/interval.rs)", lambda f: f.endswith("src/kernel/interval.rs")),
     ("predicates: 128-bit integers (kernel/arith.rs)", lambda f: f.endswith("src/kernel/arith.rs")),
+    ("predicates: double-doubles (kernel/double_double.rs)", lambda f: f.endswith("src/kernel/double_double.rs")),
     ("predicates: expansions (kernel/expansion.rs)", lambda f: f.endswith("src/kernel/expansion.rs")),
     ("predicates: big integers (num-bigint)", lambda f: "/num-bigint-" in f),
     ("predicates: formulas and points (other kernel files)", lambda f: "/src/kernel/" in f),
