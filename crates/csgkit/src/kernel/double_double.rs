@@ -185,6 +185,7 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
 mod tests {
     use super::*;
     use crate::kernel::oracle::q;
+    use crate::kernel::tests::qsign;
     use num_rational::BigRational;
     use proptest::prelude::*;
 
@@ -228,17 +229,6 @@ mod tests {
         (dd, exact)
     }
 
-    fn sign_of(x: &BigRational) -> Sign {
-        use num_traits::Signed;
-        if x.is_positive() {
-            Sign::Positive
-        } else if x.is_negative() {
-            Sign::Negative
-        } else {
-            Sign::Zero
-        }
-    }
-
     proptest! {
         #![proptest_config(crate::kernel::tests::config(3000, 0x6464_6b65_726e_0001))]
 
@@ -259,7 +249,7 @@ mod tests {
             let (dd_nudged, exact_nudged) = evaluate(&nudged, &ops);
             let exact = exact - exact_nudged;
             match dd.sub(&dd_nudged).sign() {
-                Some(s) => prop_assert_eq!(s, sign_of(&exact)),
+                Some(s) => prop_assert_eq!(s, qsign(&exact)),
                 None => prop_assert!(!is_decided_by_f64(&xs, &nudged, &ops)),
             }
         }

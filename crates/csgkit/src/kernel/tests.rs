@@ -36,7 +36,8 @@ pub(crate) fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
     }
 }
 
-fn qsign(x: &Q) -> Sign {
+/// The sign of an exact rational.
+pub(crate) fn qsign(x: &Q) -> Sign {
     if x.is_zero() {
         Sign::Zero
     } else if x.is_positive() {
