@@ -16,9 +16,10 @@
 //! `[hi + lo - err, hi + lo + err]`. Addition is Algorithm 6 (AccurateDWPlusDW) and
 //! multiplication Algorithm 10 (DWTimesDW1, no fused multiply-add) of Joldes, Muller &
 //! Popescu, "Tight and rigorous error bounds for basic building blocks of double-word
-//! arithmetic" (ACM TOMS 44, 2017): relative errors at most `3u² + 13u³` and `7u²`
-//! (`u = 2^-53`) against the exact operation on the operands' double-double values, as long
-//! as nothing underflows or overflows. Each operation charges its result's radius
+//! arithmetic" (ACM TOMS 44, 2017), whose relative error against the exact operation on the
+//! operands' double-double values is at most `3u² + 13u³` for the sum (`u = 2^-53`) and, for
+//! the product, below `2^-102` (the bound CRlibm states for the same algorithm, its `Mul22`;
+//! the paper proves a tighter one), as long as nothing underflows or overflows. Each operation charges its result's radius
 //! [`RELATIVE_ERROR`] times `|hi|` (several times those bounds) plus [`ABSOLUTE_ERROR`] (far
 //! above what gradual underflow of a partial product can lose), on top of the operands'
 //! propagated radii (`err_a + err_b` for a sum, `|a| err_b + |b| err_a + err_a err_b` for a
@@ -33,8 +34,8 @@
 use super::Sign;
 use super::interval::next_up;
 
-/// The charge of one operation, relative to `|hi|` of its result: `2^-100` is over four
-/// times the `7u²` bound of the product and over twenty times the sum's.
+/// The charge of one operation, relative to `|hi|` of its result: `2^-100` is four times
+/// the product's bound and over twenty times the sum's.
 const RELATIVE_ERROR: f64 = f64::from_bits((1023 - 100) << 52);
 
 /// The absolute charge of one operation: more than any underflowed partial product loses
