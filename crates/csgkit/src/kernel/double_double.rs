@@ -185,6 +185,8 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::arith::Arith;
+    use crate::kernel::interval::Interval;
     use crate::kernel::oracle::q;
     use crate::kernel::tests::qsign;
     use num_rational::BigRational;
@@ -213,21 +215,42 @@ mod tests {
         assert_eq!(DoubleDouble::exact(f64::MIN_POSITIVE).sign(), None);
     }
 
-    /// A random expression over a few inputs: sums of products of sums, where the f64 filter
-    /// loses most of its bits to cancellation.
-    fn evaluate(xs: &[f64], ops: &[u8]) -> (DoubleDouble, BigRational) {
-        let mut dd = DoubleDouble::exact(xs[0]);
-        let mut exact = q(xs[0]);
+    /// The random expression of the tests: the inputs combined left to right by `ops` (a
+    /// sum, a difference or a product, by `op % 3`), in any number type; sums of products of
+    /// sums, where the f64 filter loses most of its bits to cancellation.
+    fn evaluate<T>(
+        xs: &[f64],
+        ops: &[u8],
+        conv: impl Fn(f64) -> T,
+        combine: impl Fn(u8, T, T) -> T,
+    ) -> T {
+        let mut value = conv(xs[0]);
         for (i, &op) in ops.iter().enumerate() {
-            let x = xs[(i + 1) % xs.len()];
-            let (dx, qx) = (DoubleDouble::exact(x), q(x));
-            match op % 3 {
-                0 => (dd, exact) = (dd.add(&dx), exact + qx),
-                1 => (dd, exact) = (dd.sub(&dx), exact - qx),
-                _ => (dd, exact) = (dd.mul(&dx), exact * qx),
-            }
+            value = combine(op % 3, value, conv(xs[(i + 1) % xs.len()]));
         }
-        (dd, exact)
+        value
+    }
+
+    fn in_arith<T: Arith>(op: u8, a: T, b: T) -> T {
+        match op {
+            0 => a.add(&b),
+            1 => a.sub(&b),
+            _ => a.mul(&b),
+        }
+    }
+
+    fn in_rationals(op: u8, a: BigRational, b: BigRational) -> BigRational {
+        match op {
+            0 => a + b,
+            1 => a - b,
+            _ => a * b,
+        }
+    }
+
+    /// The difference of the expression at `xs` and at `nudged`, in double-doubles.
+    fn difference(xs: &[f64], nudged: &[f64], ops: &[u8]) -> DoubleDouble {
+        let at = |xs: &[f64]| evaluate(xs, ops, DoubleDouble::exact, in_arith);
+        at(xs).sub(&at(nudged))
     }
 
     proptest! {
@@ -246,10 +269,8 @@ mod tests {
             let nudged: Vec<f64> = (xs.iter().zip(nudges.iter().cycle()))
                 .map(|(&x, &n)| f64::from_bits((x.to_bits() as i64 + n) as u64))
                 .collect();
-            let (dd, exact) = evaluate(&xs, &ops);
-            let (dd_nudged, exact_nudged) = evaluate(&nudged, &ops);
-            let exact = exact - exact_nudged;
-            match dd.sub(&dd_nudged).sign() {
+            let exact = evaluate(&xs, &ops, q, in_rationals) - evaluate(&nudged, &ops, q, in_rationals);
+            match difference(&xs, &nudged, &ops).sign() {
                 Some(s) => prop_assert_eq!(s, qsign(&exact)),
                 None => prop_assert!(!is_decided_by_f64(&xs, &nudged, &ops)),
             }
@@ -259,20 +280,8 @@ mod tests {
     /// Whether the interval filter decides the difference of [`decided_signs_are_exact`]:
     /// where it does, the double-double stage must too.
     fn is_decided_by_f64(xs: &[f64], nudged: &[f64], ops: &[u8]) -> bool {
-        use crate::kernel::interval::Interval;
-        let run = |xs: &[f64]| {
-            let mut value = Interval::exact(xs[0]);
-            for (i, &op) in ops.iter().enumerate() {
-                let x = Interval::exact(xs[(i + 1) % xs.len()]);
-                value = match op % 3 {
-                    0 => value.add(&x),
-                    1 => value.sub(&x),
-                    _ => value.mul(&x),
-                };
-            }
-            value
-        };
-        run(xs).sub(&run(nudged)).sign().is_some()
+        let at = |xs: &[f64]| evaluate(xs, ops, Interval::exact, in_arith);
+        at(xs).sub(&at(nudged)).sign().is_some()
     }
 
     /// How often the stage decides where the f64 filter cannot, on the inputs of
@@ -292,9 +301,7 @@ mod tests {
                 continue;
             }
             ties += 1;
-            let (dd, _) = evaluate(&xs, &ops);
-            let (dd_nudged, _) = evaluate(&nudged, &ops);
-            decided += usize::from(dd.sub(&dd_nudged).sign().is_some());
+            decided += usize::from(difference(&xs, &nudged, &ops).sign().is_some());
         }
         assert!(ties > 1000, "{ties} of 2000 differences are f64 ties");
         assert!(
