@@ -171,28 +171,44 @@ pub(crate) fn intersecting_pairs(
 /// indices of `triangle`'s): a tree over all triangles, queried by each marked one. For a
 /// mesh known to be free of self-intersections except near a few triangles (the certify
 /// stage's moved faces), at a fraction of the cost of the whole check.
+///
+/// The triangles' records are kept in the tree's order and the marked ones query in that
+/// order, as in [`intersecting_pairs`]: consecutive queries then meet the same nodes and
+/// records, where queries in input order read them scattered over memory.
 pub(crate) fn intersecting_pairs_of(
     count: usize,
     triangle: impl Fn(usize) -> Triangle + Sync,
     marked: &[u32],
 ) -> Vec<(u32, u32)> {
     let box_of = |i: usize| Aabb::from_points(triangle(i).positions().iter());
-    let bvh = Bvh::build_with(count, box_of);
-    let is_marked = |j: u32| marked.binary_search(&j).is_ok();
-    let prepared: Vec<Prepared> = (0..count)
-        .into_par_iter()
-        .map(|i| Prepared::new(&triangle(i)))
+    let (bvh, order) = Bvh::build_with(count, box_of).into_tree_order();
+    let mut place = vec![0u32; count];
+    for (x, &i) in order.iter().enumerate() {
+        place[i as usize] = x as u32;
+    }
+    let mut queries: Vec<u32> = marked.iter().map(|&i| place[i as usize]).collect();
+    queries.sort_unstable();
+    let mut is_marked = vec![false; count];
+    for &x in &queries {
+        is_marked[x as usize] = true;
+    }
+    let sorted: Vec<(Prepared, Aabb)> = (order.par_iter())
+        .map(|&i| {
+            let t = triangle(i as usize);
+            (Prepared::new(&t), Aabb::from_points(t.positions().iter()))
+        })
         .collect();
-    let mut pairs: Vec<(u32, u32)> = par::chunks(marked, |chunk, hits| {
-        for &i in chunk {
-            let a = &prepared[i as usize];
-            bvh.visit_overlapping(&box_of(i as usize), |j| {
+    let mut pairs: Vec<(u32, u32)> = par::chunks(&queries, |chunk, hits| {
+        for &x in chunk {
+            let (a, query) = &sorted[x as usize];
+            bvh.visit_overlapping(query, |y| {
                 // A pair of marked triangles is tested from its smaller one only.
-                if j == i || (j < i && is_marked(j)) {
+                if y == x || (y < x && is_marked[y as usize]) {
                     return;
                 }
+                let (i, j) = (order[x as usize], order[y as usize]);
                 let full = || (triangle(i as usize), triangle(j as usize));
-                if counts(a, &prepared[j as usize], full) {
+                if counts(a, &sorted[y as usize].0, full) {
                     hits.push((i.min(j), i.max(j)));
                 }
             });
