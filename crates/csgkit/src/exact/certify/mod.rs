@@ -66,7 +66,7 @@
 use crate::par::*;
 use rustc_hash::FxHashMap;
 
-use crate::index::{Aabb, Bvh};
+use crate::index::{Aabb, Bvh, Occupancy};
 use crate::kernel::Point3;
 use crate::mesh::{Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_positions};
 
@@ -77,6 +77,9 @@ use super::intersect::Triangle;
 use super::self_intersect::pair_intersects;
 
 mod slivers;
+
+/// Moved faces whose boxes set the cell size of `faces_near`'s grid.
+const SIZE_SAMPLES: usize = 2048;
 
 /// Snap levels grow by this many doublings of the grid each round.
 pub(crate) const SNAP_LEVEL_STEP: i32 = 4;
@@ -410,9 +413,15 @@ fn faces_near(
     };
     let tree = Bvh::build_with(seeds.len(), |i| widened(seeds[i] as usize));
     let bounds = tree.bounds();
+    // A coarse grid of the cells the seeds' boxes cover turns most faces away in a few bit
+    // tests: the moved faces lie along intersection curves, and a query of the tree from a
+    // face far from them still descends through the boxes of curves that cross the model.
+    let samples = (seeds.iter()).step_by(seeds.len().div_ceil(SIZE_SAMPLES).max(1));
+    let side = Occupancy::side_for(&bounds, samples.map(|&f| widened(f as usize)));
+    let (cells, _) = Occupancy::of(&bounds, side, seeds.len(), |i| widened(seeds[i] as usize));
     let test = |f: u32| {
         let b = face_box(f as usize);
-        b.overlaps(&bounds) && tree.any_overlapping(&b, |_| true)
+        b.overlaps(&bounds) && cells.touches(cells.span(&b)) && tree.any_overlapping(&b, |_| true)
     };
     let mut near: Vec<u32> = match within {
         Some(faces) => faces.iter().copied().filter(|&f| test(f)).collect(),
