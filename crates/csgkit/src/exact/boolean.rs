@@ -10,7 +10,7 @@ use crate::progress::{Cancelled, Progress, Stage, StageClock};
 use super::assemble::Rounded;
 use super::certify::CertifyError;
 use super::expression::Expression;
-use super::ingest::InvalidOperand;
+use super::ingest::{InvalidOperand, TriangleTrees};
 use super::subdivide::StageError;
 use super::winding::{self, WindingRule};
 use super::{assemble, broad, certify, classify, ingest, reconstruct, select, simplify, subdivide};
@@ -332,16 +332,26 @@ fn exact_result(
     stats.input_triangles = input.triangles.len();
     clock.end(Stage::Ingest)?;
 
-    let (self_pairs, general) = if options.check_self_intersections {
-        let pairs = match suspects {
+    // The self-intersection check's trees over each operand's triangles serve classification's
+    // rays; without the check, the first ray builds them.
+    let (self_pairs, general, trees) = if options.check_self_intersections {
+        let (pairs, trees) = match suspects {
             None => ingest::self_intersecting_pairs(&input, progress)?,
-            Some(at) => ingest::self_intersecting_pairs_at(&input, at),
+            Some(at) => (
+                ingest::self_intersecting_pairs_at(&input, at),
+                TriangleTrees::on_demand(&input),
+            ),
         };
-        let general = input.has_repeats || !pairs.is_empty() || winding::has_nested_shells(&input);
+        let general =
+            input.has_repeats || !pairs.is_empty() || winding::has_nested_shells(&input, &trees);
         clock.record(Stage::Validate);
-        (pairs, general)
+        (pairs, general, trees)
     } else {
-        (Vec::new(), input.has_repeats)
+        (
+            Vec::new(),
+            input.has_repeats,
+            TriangleTrees::on_demand(&input),
+        )
     };
     stats.self_intersecting_pairs = self_pairs.len();
     stats.winding_classification = general;
@@ -368,7 +378,7 @@ fn exact_result(
     let labels = if general {
         None
     } else {
-        match classify::classify(&input, &arrangement, progress) {
+        match classify::classify(&input, &trees, &arrangement, progress) {
             Ok(labels) => Some(labels),
             Err(StageError::Unsupported(_)) => None,
             Err(error) => return Err(error.into()),
@@ -387,6 +397,7 @@ fn exact_result(
                 expression,
                 options.winding,
                 &input,
+                &trees,
                 &arrangement,
                 &patch_of,
                 patch_count,

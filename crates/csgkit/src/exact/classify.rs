@@ -33,17 +33,18 @@
 //! One union-find pass over all sub-triangles (through the ingest neighbour table for
 //! triangles that were not split; through sorted edge records near the intersection curves),
 //! O(1) exact tests per patch edge on another operand, and one ray per patch that needs one
-//! (a BVH when there are many, a parallel scan when there are few).
+//! (the operands' trees of [`TriangleTrees`], or a parallel scan for a few rays where the
+//! self-intersection check did not build those trees).
 
 use crate::par::*;
 
-use crate::index::{Aabb, Bvh};
+use crate::index::Aabb;
 use crate::kernel::{Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane};
 use crate::mesh::union_find::UnionFind;
 
 use crate::progress::{Counter, Progress, Stage};
 
-use super::ingest::{Input, NO_NEIGHBOUR};
+use super::ingest::{Input, NO_NEIGHBOUR, TriangleTrees};
 use super::subdivide::{Arrangement, StageError};
 
 /// Where a patch lies relative to another operand, when not outside it.
@@ -78,7 +79,7 @@ pub(crate) fn patch_partition(input: &Input, arr: &Arrangement) -> (Vec<u32>, us
     patches(input, arr, &EdgeGroups::new(input, arr))
 }
 
-/// Below this many rays, rays scan the triangles in parallel instead of building a BVH.
+/// Up to this many rays scan the triangles in parallel instead of building trees.
 const RAYS_WITHOUT_INDEX: usize = 8;
 
 /// Labels every patch, reporting local tests and rays done to `progress`.
@@ -89,6 +90,7 @@ const RAYS_WITHOUT_INDEX: usize = 8;
 /// [`StageError::Cancelled`].
 pub(crate) fn classify(
     input: &Input,
+    trees: &TriangleTrees,
     arr: &Arrangement,
     progress: &Progress,
 ) -> Result<Labels, StageError> {
@@ -130,7 +132,7 @@ pub(crate) fn classify(
         .filter_map(|(p, v)| v.map(|v| (p, v)))
         .unzip();
     counter.advance(patch_count - rays.len());
-    let cast = cast_rays(input, &rays, &counter);
+    let cast = cast_rays(input, trees, &rays, &counter);
     counter.finish()?;
     for (p, inside) in ray_patches.into_iter().zip(cast) {
         let own = &local[p];
@@ -312,7 +314,12 @@ fn ray_vertices(
 /// The labels of each patch at its clean vertex, by exact ray casting: `rays` holds
 /// `(vertex, operand of the patch)`; each ray advances `counter`, and after a cancellation
 /// the labels are incomplete.
-fn cast_rays(input: &Input, rays: &[(u32, u32)], counter: &Counter) -> Vec<Vec<(u32, Label)>> {
+fn cast_rays(
+    input: &Input,
+    trees: &TriangleTrees,
+    rays: &[(u32, u32)],
+    counter: &Counter,
+) -> Vec<Vec<(u32, Label)>> {
     let ray_box = |v: Point3| Aabb {
         min: v,
         max: [f64::INFINITY, v[1], v[2]],
@@ -337,7 +344,7 @@ fn cast_rays(input: &Input, rays: &[(u32, u32)], counter: &Counter) -> Vec<Vec<(
         inside.sort_unstable_by_key(|e| e.0);
         inside
     };
-    if rays.len() <= RAYS_WITHOUT_INDEX {
+    if rays.len() <= RAYS_WITHOUT_INDEX && !trees.are_built() {
         // A few rays: scanning is cheaper than building an index over every triangle.
         return (rays.iter())
             .map(|&(v, own)| {
@@ -355,16 +362,11 @@ fn cast_rays(input: &Input, rays: &[(u32, u32)], counter: &Counter) -> Vec<Vec<(
             })
             .collect();
     }
-    let boxes: Vec<Aabb> = (0..input.triangles.len())
-        .into_par_iter()
-        .map(|t| super::broad::triangle_box(input, t))
-        .collect();
-    let tree = Bvh::build(&boxes);
     counter.par_chunks(rays, |chunk, out| {
         for &(v, own) in chunk {
             let pos = input.positions[v as usize];
             let mut hits = Vec::new();
-            tree.visit_overlapping(&ray_box(pos), |t| hits.push(t));
+            trees.visit_overlapping(&ray_box(pos), |t| hits.push(t));
             out.push(labels_at(pos, own, &mut hits.into_iter()));
         }
     })

@@ -148,6 +148,15 @@ pub(crate) fn intersecting_pairs(
     count: usize,
     triangle: impl Fn(usize) -> Triangle + Sync,
 ) -> Vec<(u32, u32)> {
+    intersecting_pairs_and_tree(count, triangle).0
+}
+
+/// [`intersecting_pairs`], and the tree over the triangles' boxes it walked (ids are indices
+/// of `triangle`), for callers that query the same triangles again.
+pub(crate) fn intersecting_pairs_and_tree(
+    count: usize,
+    triangle: impl Fn(usize) -> Triangle + Sync,
+) -> (Vec<(u32, u32)>, Bvh) {
     let box_of = |i: usize| Aabb::from_points(triangle(i).positions().iter());
     let (bvh, order) = Bvh::build_with(count, box_of).into_tree_order();
     // Triangles in the tree's order, so that the walk reads them almost sequentially.
@@ -164,7 +173,7 @@ pub(crate) fn intersecting_pairs(
     });
     pairs.par_sort_unstable();
     pairs.dedup();
-    pairs
+    (pairs, bvh.with_ids(order))
 }
 
 /// The pairs of [`intersecting_pairs`] with at least one triangle in `marked` (sorted

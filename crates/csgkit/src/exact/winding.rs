@@ -47,12 +47,12 @@
 //!    follows exactly by undoing every coincident face's orientation, as `back` adds them.
 //!
 //! # Complexity
-//! One [`Bvh`] over the input triangles and one ray per patch: O((n + P) log n) plus the
-//! triangles each ray meets.
+//! The operands' trees ([`TriangleTrees`], the self-intersection check's) and one ray per
+//! patch: O((n + P) log n) plus the triangles each ray meets.
 
 use crate::par::*;
 
-use crate::index::{Aabb, Bvh};
+use crate::index::Aabb;
 use crate::kernel::{
     Axis, Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane,
     orient3d_points, round_point, simplify,
@@ -62,7 +62,7 @@ use crate::mesh::union_find::UnionFind;
 use crate::progress::{Progress, Stage};
 
 use super::expression::Expression;
-use super::ingest::{Input, NO_NEIGHBOUR};
+use super::ingest::{Input, NO_NEIGHBOUR, TriangleTrees};
 use super::intersect::Triangle;
 use super::select::Kept;
 use super::subdivide::{Arrangement, StageError};
@@ -93,7 +93,7 @@ impl WindingRule {
 /// Rays from points of triangles, against every input triangle.
 pub(crate) struct RayCaster<'a> {
     input: &'a Input,
-    tree: Bvh,
+    trees: &'a TriangleTrees<'a>,
 }
 
 /// What a ray from a point of a triangle finds.
@@ -121,11 +121,8 @@ pub(crate) struct SamplePoint {
 }
 
 impl<'a> RayCaster<'a> {
-    pub(crate) fn new(input: &'a Input) -> Self {
-        let tree = Bvh::build_with(input.triangles.len(), |t| {
-            Aabb::from_points(input.triangle_positions(t).iter())
-        });
-        Self { input, tree }
+    pub(crate) fn new(input: &'a Input, trees: &'a TriangleTrees<'a>) -> Self {
+        Self { input, trees }
     }
 
     /// The winding numbers just in front of `at` (on the side its triangle's normal points
@@ -156,7 +153,7 @@ impl<'a> RayCaster<'a> {
         }
         let c2 = [at.c[u], at.c[v]];
         let mut sample = Sample::default();
-        self.tree.visit_overlapping(&query, |t| {
+        self.trees.visit_overlapping(&query, |t| {
             let other = self.input.triangle(t as usize);
             let k = self.input.operand[t as usize];
             match ray_meets(&other, [u, v], c2, &at.p, turn) {
@@ -307,6 +304,7 @@ pub(crate) fn select(
     expression: &Expression,
     rule: WindingRule,
     input: &Input,
+    trees: &TriangleTrees,
     arr: &Arrangement,
     patch_of: &[u32],
     patch_count: usize,
@@ -340,7 +338,7 @@ pub(crate) fn select(
             }
         }
     }
-    let caster = RayCaster::new(input);
+    let caster = RayCaster::new(input, trees);
     let counter = progress.counter(Stage::Classify, samples.len());
     let mut found: Vec<Option<Sample>> = counter.par_chunks(&samples, |chunk, out| {
         out.extend(
@@ -351,7 +349,7 @@ pub(crate) fn select(
     });
     counter.finish()?;
     if missing > 0 {
-        propagate_to_slivers(input, arr, &caster.tree, patch_of, &mut found)?;
+        propagate_to_slivers(input, arr, trees, patch_of, &mut found)?;
     }
     let first_sub = {
         let mut first = vec![u32::MAX; patch_count];
@@ -410,7 +408,7 @@ struct PatchAt {
 fn propagate_to_slivers(
     input: &Input,
     arr: &Arrangement,
-    tree: &Bvh,
+    trees: &TriangleTrees,
     patch_of: &[u32],
     found: &mut [Option<Sample>],
 ) -> Result<(), StageError> {
@@ -485,7 +483,7 @@ fn propagate_to_slivers(
                 front.retain(|e| e.1 != 0);
                 front.sort_unstable();
                 let (coincident, stack) =
-                    (stacks[slot].take()).unwrap_or_else(|| sliver_stack(input, arr, tree, s));
+                    (stacks[slot].take()).unwrap_or_else(|| sliver_stack(input, arr, trees, s));
                 found[p] = Some(Sample {
                     front,
                     coincident,
@@ -507,7 +505,7 @@ fn propagate_to_slivers(
                 continue;
             }
             let (coincident, stack) =
-                stacks[slot].get_or_insert_with(|| sliver_stack(input, arr, tree, s));
+                stacks[slot].get_or_insert_with(|| sliver_stack(input, arr, trees, s));
             let Some(front) = front_from_stack(input, arr, patch_of, found, coincident, stack)
             else {
                 continue;
@@ -585,7 +583,7 @@ fn front_from_stack(
 fn sliver_stack(
     input: &Input,
     arr: &Arrangement,
-    tree: &Bvh,
+    trees: &TriangleTrees,
     s: u32,
 ) -> (Vec<(u32, i32)>, Vec<u32>) {
     let source = input.triangle(arr.source[s as usize] as usize);
@@ -596,7 +594,7 @@ fn sliver_stack(
     let corners = arr.triangles[s as usize].map(point);
     let mut coincident = Vec::new();
     let mut stack = Vec::new();
-    tree.visit_overlapping(&Aabb::from_points(plane.iter()), |u| {
+    trees.visit_overlapping(&Aabb::from_points(plane.iter()), |u| {
         let q = input.triangle_positions(u as usize);
         if (q.iter()).any(|&x| orient3d(plane[0], plane[1], plane[2], x) != Sign::Zero) {
             return;
@@ -710,7 +708,7 @@ fn patch_at(input: &Input, arr: &Arrangement, patch_of: &[u32], t: u32, c: &Poin
 /// local-test classification cannot handle. Operands must have no self-intersection: then
 /// each shell is embedded and meets no other, so the winding number in front of a shell is
 /// the same all over it and one ray per shell decides.
-pub(crate) fn has_nested_shells(input: &Input) -> bool {
+pub(crate) fn has_nested_shells(input: &Input, trees: &TriangleTrees) -> bool {
     let mut shells = UnionFind::new(input.triangles.len());
     for (side, &n) in input.neighbours.iter().enumerate() {
         if n != NO_NEIGHBOUR {
@@ -734,7 +732,7 @@ pub(crate) fn has_nested_shells(input: &Input) -> bool {
     if firsts.is_empty() {
         return false;
     }
-    let caster = RayCaster::new(input);
+    let caster = RayCaster::new(input, trees);
     firsts.par_iter().any(|&t| {
         let corners = input.triangle_positions(t as usize).map(Point::Explicit);
         let own = input.operand[t as usize];

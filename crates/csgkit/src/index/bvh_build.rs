@@ -135,6 +135,17 @@ impl Bvh {
         (self, ids)
     }
 
+    /// Undoes [`Bvh::into_tree_order`]: the same tree answering with the caller's ids again,
+    /// `ids` being the list that call returned.
+    ///
+    /// # Panics
+    /// If `ids` is not as long as the tree has primitives.
+    pub fn with_ids(mut self, ids: Vec<u32>) -> Bvh {
+        assert_eq!(ids.len(), self.ids.len(), "one id per primitive");
+        self.ids = ids;
+        self
+    }
+
     /// Range of sorted primitives in leaf node `node`.
     pub(super) fn leaf_primitives(&self, node: usize) -> std::ops::Range<usize> {
         let leaf = node + 1 - self.leaf_count;
