@@ -70,7 +70,7 @@
 
 use std::cell::OnceCell;
 
-use crate::par::{self, *};
+use crate::par::*;
 
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
@@ -157,75 +157,52 @@ pub(crate) fn intersecting_pairs_and_tree(
     count: usize,
     triangle: impl Fn(usize) -> Triangle + Sync,
 ) -> (Vec<(u32, u32)>, Bvh) {
-    let box_of = |i: usize| Aabb::from_points(triangle(i).positions().iter());
-    let (bvh, order) = Bvh::build_with(count, box_of).into_tree_order();
-    // Triangles in the tree's order, so that the walk reads them almost sequentially.
-    let sorted: Vec<Prepared> = (order.par_iter())
-        .map(|&i| Prepared::new(&triangle(i as usize)))
-        .collect();
-    let input = |x: u32| order[x as usize];
-    let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
-        let full = || (triangle(input(x) as usize), triangle(input(y) as usize));
-        counts(&sorted[x as usize], &sorted[y as usize], full).then(|| {
-            let (i, j) = (input(x), input(y));
-            (i.min(j), i.max(j))
-        })
-    });
-    pairs.par_sort_unstable();
-    pairs.dedup();
-    (pairs, bvh.with_ids(order))
+    pairs_from_one_walk(count, triangle, None)
 }
 
-/// The pairs of [`intersecting_pairs`] with at least one triangle in `marked` (sorted
-/// indices of `triangle`'s): a tree over all triangles, queried by each marked one. For a
-/// mesh known to be free of self-intersections except near a few triangles (the certify
-/// stage's moved faces), at a fraction of the cost of the whole check.
-///
-/// The triangles' records are kept in the tree's order and the marked ones query in that
-/// order, as in [`intersecting_pairs`]: consecutive queries then meet the same nodes and
-/// records, where queries in input order read them scattered over memory.
+/// The pairs of [`intersecting_pairs`] with at least one triangle in `marked` (indices of
+/// `triangle`'s). For a mesh known to be free of self-intersections except near a few
+/// triangles (the certify stage's moved faces and those around them), at a fraction of the
+/// cost of the whole check: the pairs of two unmarked triangles are passed over before any
+/// test. (A query of the tree from each marked triangle instead descends from the root
+/// every time, and cost more than the walk's extra box tests.)
 pub(crate) fn intersecting_pairs_of(
     count: usize,
     triangle: impl Fn(usize) -> Triangle + Sync,
     marked: &[u32],
 ) -> Vec<(u32, u32)> {
+    pairs_from_one_walk(count, triangle, Some(marked)).0
+}
+
+/// One walk of a tree over the triangles against itself, testing every overlapping pair that
+/// has a triangle in `marked` (every pair when `None`); the pairs found, sorted, and the tree.
+fn pairs_from_one_walk(
+    count: usize,
+    triangle: impl Fn(usize) -> Triangle + Sync,
+    marked: Option<&[u32]>,
+) -> (Vec<(u32, u32)>, Bvh) {
     let box_of = |i: usize| Aabb::from_points(triangle(i).positions().iter());
     let (bvh, order) = Bvh::build_with(count, box_of).into_tree_order();
-    let mut place = vec![0u32; count];
-    for (x, &i) in order.iter().enumerate() {
-        place[i as usize] = x as u32;
+    let mut is_marked = vec![marked.is_none(); count];
+    for &i in marked.unwrap_or_default() {
+        is_marked[i as usize] = true;
     }
-    let mut queries: Vec<u32> = marked.iter().map(|&i| place[i as usize]).collect();
-    queries.sort_unstable();
-    let mut is_marked = vec![false; count];
-    for &x in &queries {
-        is_marked[x as usize] = true;
-    }
-    let sorted: Vec<(Prepared, Aabb)> = (order.par_iter())
-        .map(|&i| {
-            let t = triangle(i as usize);
-            (Prepared::new(&t), Aabb::from_points(t.positions().iter()))
-        })
+    // Triangles in the tree's order, so that the walk reads them almost sequentially.
+    let sorted: Vec<(Prepared, bool)> = (order.par_iter())
+        .map(|&i| (Prepared::new(&triangle(i as usize)), is_marked[i as usize]))
         .collect();
-    let mut pairs: Vec<(u32, u32)> = par::chunks(&queries, |chunk, hits| {
-        for &x in chunk {
-            let (a, query) = &sorted[x as usize];
-            bvh.visit_overlapping(query, |y| {
-                // A pair of marked triangles is tested from its smaller one only.
-                if y == x || (y < x && is_marked[y as usize]) {
-                    return;
-                }
-                let (i, j) = (order[x as usize], order[y as usize]);
-                let full = || (triangle(i as usize), triangle(j as usize));
-                if counts(a, &sorted[y as usize].0, full) {
-                    hits.push((i.min(j), i.max(j)));
-                }
-            });
+    let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
+        let ((a, a_marked), (b, b_marked)) = (&sorted[x as usize], &sorted[y as usize]);
+        if !a_marked && !b_marked {
+            return None;
         }
+        let (i, j) = (order[x as usize], order[y as usize]);
+        let full = || (triangle(i as usize), triangle(j as usize));
+        counts(a, b, full).then(|| (i.min(j), i.max(j)))
     });
     pairs.par_sort_unstable();
     pairs.dedup();
-    pairs
+    (pairs, bvh.with_ids(order))
 }
 
 /// Whether two triangles of one mesh count as intersecting ([`intersecting_pairs`]'s rules,
