@@ -77,16 +77,21 @@ enum Support {
 pub(crate) struct Contacts {
     /// How many candidate pairs touch or cross.
     pub intersecting_pairs: usize,
-    /// `(triangle, mark)`, sorted by triangle.
+    /// `(triangle, mark)`, sorted by triangle, and within a triangle in pair order.
     marks: Vec<(u32, Mark)>,
-    /// The contact points that are not input vertices, as found by each pair, in pair
-    /// order: a point found by several pairs is here once for each.
-    points: Vec<(PointKey, Point)>,
+    /// The contact points that are not input vertices, as found by each pair, in pair order
+    /// over the lists (one per run of candidates): a point found by several pairs is here
+    /// once for each. Kept in the lists they were found in: joined, they would be copied
+    /// once more, a few hundred bytes a point, to fresh memory.
+    points: Vec<Vec<(PointKey, Point)>>,
 }
 
-/// What one intersecting pair found.
-struct PairContacts {
-    /// The marks on both triangles.
+/// What the intersecting pairs of one run of candidates found, in pair order: one record per
+/// run rather than per pair, so the many small pairs do not each allocate.
+#[derive(Default)]
+struct FoundContacts {
+    intersecting_pairs: usize,
+    /// The marks on both triangles of each pair.
     marks: Vec<(u32, Mark)>,
     /// The contact points that are not input vertices.
     points: Vec<(PointKey, Point)>,
@@ -102,27 +107,21 @@ pub(crate) fn intersect_pairs(
     progress: &Progress,
 ) -> Result<Contacts, Cancelled> {
     let counter = progress.counter(Stage::Intersect, pairs.len());
-    let found: Vec<PairContacts> = counter.par_chunks(pairs, |chunk, out| {
-        out.extend(chunk.iter().filter_map(|&(s, t)| {
+    let found: Vec<FoundContacts> = counter.par_chunks(pairs, |chunk, out| {
+        let mut found = FoundContacts::default();
+        for &(s, t) in chunk {
             let (a, b) = (input.triangle(s as usize), input.triangle(t as usize));
-            contacts_of(&a, &b, intersect_triangles(&a, &b))
-        }));
+            add_contacts(&a, &b, &intersect_triangles(&a, &b), &mut found);
+        }
+        out.push(found);
     });
     counter.finish()?;
-    let intersecting_pairs = found.len();
-    // Grouped by triangle, and within a triangle in pair order, which is deterministic: the
-    // `(triangle, pair, position)` keys are sorted, and each mark moves once, from its
-    // pair's list to its place.
-    let mut order: Vec<(u32, u32, u32)> = (found.iter().enumerate())
-        .flat_map(|(pair, contacts)| {
-            (contacts.marks.iter().enumerate()).map(move |(i, m)| (m.0, pair as u32, i as u32))
-        })
-        .collect();
-    order.par_sort_unstable();
-    let marks = (order.iter())
-        .map(|&(_, pair, i)| found[pair as usize].marks[i as usize])
-        .collect();
-    let points = found.into_iter().flat_map(|f| f.points).collect();
+    let intersecting_pairs = found.iter().map(|f| f.intersecting_pairs).sum();
+    let (marks, points): (Vec<_>, Vec<_>) = found.into_iter().map(|f| (f.marks, f.points)).unzip();
+    let mut marks = marks.concat();
+    // Grouped by triangle, and within a triangle in pair order (a stable sort of marks in
+    // pair order), which is deterministic.
+    marks.par_sort_by_key(|m| m.0);
     Ok(Contacts {
         intersecting_pairs,
         marks,
@@ -130,35 +129,42 @@ pub(crate) fn intersect_pairs(
     })
 }
 
-/// What an intersection of triangles `a` and `b` puts on each of them; `None` when they are
-/// disjoint.
-fn contacts_of(a: &Triangle, b: &Triangle, intersection: Intersection) -> Option<PairContacts> {
-    let contacts: &[Contact] = match &intersection {
-        Intersection::Disjoint => return None,
+/// Adds what an intersection of triangles `a` and `b` puts on each of them to `found`.
+fn add_contacts(
+    a: &Triangle,
+    b: &Triangle,
+    intersection: &Intersection,
+    found: &mut FoundContacts,
+) {
+    let contacts: &[Contact] = match intersection {
+        Intersection::Disjoint => return,
         Intersection::TouchingPoint(c) => std::slice::from_ref(c),
         Intersection::TouchingSegment(ends) | Intersection::Crossing(ends) => ends,
         Intersection::CoplanarOverlap(corners) => corners,
     };
-    let points = (contacts.iter())
-        .filter(|c| !matches!(c.key, PointKey::Vertex(_)))
-        .map(|c| (c.key, c.point))
-        .collect();
-    Some(PairContacts {
-        marks: marks_of(a, b, &intersection),
-        points,
-    })
+    found.intersecting_pairs += 1;
+    found.points.extend(
+        (contacts.iter())
+            .filter(|c| !matches!(c.key, PointKey::Vertex(_)))
+            .map(|c| (c.key, c.point)),
+    );
+    add_marks(a, b, intersection, &mut found.marks);
 }
 
-/// The marks an intersection of triangles `a` and `b` puts on each of them.
-fn marks_of(a: &Triangle, b: &Triangle, intersection: &Intersection) -> Vec<(u32, Mark)> {
+/// Adds the marks an intersection of triangles `a` and `b` puts on each of them to `marks`.
+fn add_marks(
+    a: &Triangle,
+    b: &Triangle,
+    intersection: &Intersection,
+    marks: &mut Vec<(u32, Mark)>,
+) {
     let (s, t) = (a.id(), b.id());
     let point = |c: &Contact| Mark::Point(c.key);
     let both = |mark: Mark| [(s, mark), (t, mark)];
     match *intersection {
-        Intersection::Disjoint => Vec::new(),
-        Intersection::TouchingPoint(c) => Vec::from(both(point(&c))),
+        Intersection::Disjoint => {}
+        Intersection::TouchingPoint(c) => marks.extend(both(point(&c))),
         Intersection::TouchingSegment([c, d]) | Intersection::Crossing([c, d]) => {
-            let mut marks = Vec::with_capacity(6);
             marks.extend(both(point(&c)));
             marks.extend(both(point(&d)));
             // A segment along an edge of the other triangle is carried by that edge, so a
@@ -170,10 +176,9 @@ fn marks_of(a: &Triangle, b: &Triangle, intersection: &Intersection) -> Vec<(u32
                 common_edge(c.on_a, d.on_a).map_or(Support::Plane(s), |i| Support::Edge(a.edge(i)));
             marks.push((s, Mark::Segment(c.key, d.key, on_b)));
             marks.push((t, Mark::Segment(c.key, d.key, on_a)));
-            marks
         }
         Intersection::CoplanarOverlap(ref corners) => {
-            let mut marks: Vec<(u32, Mark)> = corners.iter().flat_map(|c| both(point(c))).collect();
+            marks.extend(corners.iter().flat_map(|c| both(point(c))));
             for (i, c) in corners.iter().enumerate() {
                 let d = &corners[(i + 1) % corners.len()];
                 // Each side of the overlap lies along an edge of `b` or of `a`.
@@ -183,7 +188,6 @@ fn marks_of(a: &Triangle, b: &Triangle, intersection: &Intersection) -> Vec<(u32
                 };
                 marks.extend(both(Mark::Segment(c.key, d.key, Support::Edge(edge))));
             }
-            marks
         }
     }
 }
@@ -321,7 +325,7 @@ pub(crate) fn split(
 /// gets the next id, in key order (deterministic).
 fn number_points(
     vertex_count: usize,
-    found: &[(PointKey, Point)],
+    found: &[Vec<(PointKey, Point)>],
 ) -> (FxHashMap<PointKey, u32>, Vec<Point>) {
     // Keys with references to their points: the sort moves small tuples, not the points.
     // Triangle pairs that find one point may define it differently (an edge's line from
@@ -331,7 +335,7 @@ fn number_points(
     // against 33 M with the first found), then the first found. A total order, so every
     // build keeps the same one (rayon's and the standard library's unstable sorts order ties
     // differently).
-    let mut keyed: Vec<(PointKey, f64, usize, &Point)> = (found.iter().enumerate())
+    let mut keyed: Vec<(PointKey, f64, usize, &Point)> = (found.iter().flatten().enumerate())
         .map(|(index, (key, point))| (*key, enclosure_size(point), index, point))
         .collect();
     keyed.par_sort_unstable_by(|x, y| {
@@ -472,7 +476,7 @@ fn split_one(
             }
         }
     }
-    // Of the supports of one segment, keep an edge if there is one (see `marks_of`); the
+    // Of the supports of one segment, keep an edge if there is one (see `add_marks`); the
     // sort is stable, so the choice does not depend on the thread count.
     segments.sort_by_key(|s| (s.0, matches!(s.1, Support::Plane(_))));
     segments.dedup_by_key(|s| s.0);
