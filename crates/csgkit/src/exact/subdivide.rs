@@ -657,8 +657,10 @@ mod tests {
             edge: [3, 4],
             triangle: 7,
         };
-        let (ids, kept) = number_points(5, &[(key, forward), (key, backward)]);
-        let (ids_reversed, kept_reversed) = number_points(5, &[(key, backward), (key, forward)]);
+        // Found by two runs of pairs, in either order.
+        let (ids, kept) = number_points(5, &[vec![(key, forward)], vec![(key, backward)]]);
+        let (ids_reversed, kept_reversed) =
+            number_points(5, &[vec![(key, backward)], vec![(key, forward)]]);
         assert_eq!((ids[&key], ids_reversed[&key]), (5, 5));
         assert_eq!((kept.len(), kept_reversed.len()), (1, 1));
         assert_eq!(format!("{:?}", kept[0]), format!("{:?}", kept_reversed[0]));
