@@ -362,6 +362,7 @@ fn cast_rays(
             })
             .collect();
     }
+    trees.build_missing();
     counter.par_chunks(rays, |chunk, out| {
         for &(v, own) in chunk {
             let pos = input.positions[v as usize];

@@ -579,15 +579,17 @@ fn signed_volume(input: &Input, k: usize) -> f64 {
 /// # Errors
 /// [`Cancelled`] when the run was cancelled.
 ///
-/// Also returns the trees over each operand's triangles that the check walked, for
-/// classification to query again ([`TriangleTrees`]).
+/// Also returns the trees over each operand's triangles that the check walked, from the
+/// first operand found to intersect itself on (or all, for operands with repeated faces):
+/// those the winding classification will query again ([`TriangleTrees`]). The others go,
+/// so that a check of large simple operands holds one tree at a time.
 pub(crate) fn self_intersecting_pairs<'a>(
     input: &'a Input,
     progress: &Progress,
 ) -> Result<(Vec<(u32, u32)>, TriangleTrees<'a>), Cancelled> {
     let counter = progress.counter(Stage::Validate, input.operand_count());
     let mut all = Vec::new();
-    let mut trees = Vec::with_capacity(input.operand_count());
+    let trees = TriangleTrees::on_demand(input);
     for k in 0..input.operand_count() {
         let range = input.operand_triangles(k);
         let offset = range.start as u32;
@@ -595,62 +597,72 @@ pub(crate) fn self_intersecting_pairs<'a>(
             input.triangle(range.start + i)
         });
         all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
-        trees.push((offset, tree));
+        if input.has_repeats || !all.is_empty() {
+            // The winding classification will run.
+            trees.keep(k, tree);
+        }
         counter.advance(1);
         progress.check()?;
     }
     counter.finish()?;
-    Ok((all, TriangleTrees::built(input, trees)))
+    Ok((all, trees))
 }
 
-/// A tree over the boxes of each operand's triangles, for queries over every triangle
-/// (classification's rays). The self-intersection check builds these trees on its way
-/// ([`self_intersecting_pairs`]); without it, the first query builds them. Classification
-/// building a tree of its own over all triangles cost as much as the rest of its work on
-/// dragon − offset (200 k triangles, 100 rays).
+/// A tree over the boxes of each operand's triangles, for queries over every triangle (the
+/// winding classification's rays, one per patch). The self-intersection check keeps the
+/// trees it built when they will serve ([`self_intersecting_pairs`]); the first query builds
+/// the others. Classification building a tree of its own over all triangles cost as much as
+/// the rest of its work on dragon − offset (200 k triangles, 100 rays).
 pub(crate) struct TriangleTrees<'a> {
     input: &'a Input,
-    /// Per operand: its first triangle, and a tree whose ids count from it.
-    trees: std::sync::OnceLock<Vec<(u32, Bvh)>>,
+    /// Per operand, a tree whose ids count from the operand's first triangle.
+    trees: Vec<std::sync::OnceLock<Bvh>>,
 }
 
 impl<'a> TriangleTrees<'a> {
-    /// Trees the caller built: `(first triangle, tree)` for every operand.
-    fn built(input: &'a Input, trees: Vec<(u32, Bvh)>) -> Self {
-        TriangleTrees {
-            input,
-            trees: trees.into(),
-        }
-    }
-
-    /// Trees built at the first query.
+    /// No tree yet: each is built at the first query.
     pub(crate) fn on_demand(input: &'a Input) -> Self {
-        TriangleTrees {
-            input,
-            trees: std::sync::OnceLock::new(),
+        let trees = (0..input.operand_count())
+            .map(|_| Default::default())
+            .collect();
+        TriangleTrees { input, trees }
+    }
+
+    /// Keeps operand `k`'s tree, built by the caller.
+    fn keep(&self, k: usize, tree: Bvh) {
+        // A tree that is already there is the same tree.
+        let _ = self.trees[k].set(tree);
+    }
+
+    /// Whether every tree exists (a query costs no build).
+    pub(crate) fn are_built(&self) -> bool {
+        self.trees.iter().all(|tree| tree.get().is_some())
+    }
+
+    /// Builds the trees not kept. Called before the parallel loops that query them: a tree
+    /// built inside one, on its first query, could be asked for again by a job its own
+    /// build's thread picks up while it waits, which a `OnceLock` does not allow.
+    pub(crate) fn build_missing(&self) {
+        for k in 0..self.trees.len() {
+            self.tree(k);
         }
     }
 
-    /// Whether the trees exist (a query costs no build).
-    pub(crate) fn are_built(&self) -> bool {
-        self.trees.get().is_some()
+    /// Operand `k`'s tree, built if it is missing.
+    fn tree(&self, k: usize) -> &Bvh {
+        self.trees[k].get_or_init(|| {
+            let range = self.input.operand_triangles(k);
+            let box_of =
+                |i: usize| Aabb::from_points(self.input.triangle_positions(range.start + i).iter());
+            Bvh::build_with(range.len(), box_of)
+        })
     }
 
     /// Calls `visit` with every triangle whose box overlaps `query`.
     pub(crate) fn visit_overlapping(&self, query: &Aabb, mut visit: impl FnMut(u32)) {
-        let trees = self.trees.get_or_init(|| {
-            (0..self.input.operand_count())
-                .map(|k| {
-                    let range = self.input.operand_triangles(k);
-                    let box_of = |i: usize| {
-                        Aabb::from_points(self.input.triangle_positions(range.start + i).iter())
-                    };
-                    (range.start as u32, Bvh::build_with(range.len(), box_of))
-                })
-                .collect()
-        });
-        for (first, tree) in trees {
-            tree.visit_overlapping(query, |i| visit(first + i));
+        for k in 0..self.trees.len() {
+            let first = self.input.operand_starts[k];
+            self.tree(k).visit_overlapping(query, |i| visit(first + i));
         }
     }
 }

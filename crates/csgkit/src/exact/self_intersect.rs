@@ -183,22 +183,35 @@ fn pairs_from_one_walk(
 ) -> (Vec<(u32, u32)>, Bvh) {
     let box_of = |i: usize| Aabb::from_points(triangle(i).positions().iter());
     let (bvh, order) = Bvh::build_with(count, box_of).into_tree_order();
-    let mut is_marked = vec![marked.is_none(); count];
-    for &i in marked.unwrap_or_default() {
-        is_marked[i as usize] = true;
-    }
     // Triangles in the tree's order, so that the walk reads them almost sequentially.
-    let sorted: Vec<(Prepared, bool)> = (order.par_iter())
-        .map(|&i| (Prepared::new(&triangle(i as usize)), is_marked[i as usize]))
+    let sorted: Vec<Prepared> = (order.par_iter())
+        .map(|&i| Prepared::new(&triangle(i as usize)))
         .collect();
+    // By place in the tree's order, apart from the records: a flag in each would widen all
+    // of them, on the whole check too.
+    let is_marked = marked.map(|marked| {
+        let mut place = vec![0u32; count];
+        for (x, &i) in order.iter().enumerate() {
+            place[i as usize] = x as u32;
+        }
+        let mut is_marked = vec![false; count];
+        for &i in marked {
+            is_marked[place[i as usize] as usize] = true;
+        }
+        is_marked
+    });
+    let tested = |x: u32, y: u32| {
+        is_marked
+            .as_ref()
+            .is_none_or(|m| m[x as usize] || m[y as usize])
+    };
     let mut pairs = bvh.self_overlapping_filter_map(|x, y| {
-        let ((a, a_marked), (b, b_marked)) = (&sorted[x as usize], &sorted[y as usize]);
-        if !a_marked && !b_marked {
+        if !tested(x, y) {
             return None;
         }
         let (i, j) = (order[x as usize], order[y as usize]);
         let full = || (triangle(i as usize), triangle(j as usize));
-        counts(a, b, full).then(|| (i.min(j), i.max(j)))
+        counts(&sorted[x as usize], &sorted[y as usize], full).then(|| (i.min(j), i.max(j)))
     });
     pairs.par_sort_unstable();
     pairs.dedup();

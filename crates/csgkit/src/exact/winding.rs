@@ -122,6 +122,7 @@ pub(crate) struct SamplePoint {
 
 impl<'a> RayCaster<'a> {
     pub(crate) fn new(input: &'a Input, trees: &'a TriangleTrees<'a>) -> Self {
+        trees.build_missing();
         Self { input, trees }
     }
 
