@@ -66,6 +66,12 @@ impl DoubleDouble {
         .checked()
     }
 
+    /// `hi + lo` rounded to f64: within about an ulp of the value when the radius is small.
+    #[inline]
+    pub(crate) fn estimate(&self) -> f64 {
+        self.hi + self.lo
+    }
+
     /// The sign of every number within the radius, or `None` when they differ, the value may
     /// be zero, or a result left the valid range.
     #[inline]
