@@ -5,9 +5,10 @@
 //! the cascade's running error bound, an f64 estimate of each quotient `X / W`, and two signs
 //! that place the exact quotient strictly between the midpoints from the estimate to its
 //! neighbours (`X - m W` for each midpoint `m`). The nearest f64 is then the estimate, with
-//! no tie possible. That decides nearly every point at a fifteenth of the integers' cost;
-//! where a sign is not certain (a quotient within about `2^-40` ulps of a midpoint, an exact
-//! tie, a magnitude out of the double-doubles' range), the integers decide.
+//! no tie possible. That decides nearly every point in a few dozen double-double
+//! operations, where the integers divide 384-bit numbers; where a sign is not certain (a
+//! quotient within about `2^-40` ulps of a midpoint, an exact tie, a magnitude out of the
+//! double-doubles' range), the integers decide.
 //!
 //! The integers evaluate the homogeneous coordinates exactly (every input scaled by the same
 //! power of two), and round each quotient to nearest, ties to even, by one integer division
