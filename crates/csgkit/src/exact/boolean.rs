@@ -332,8 +332,9 @@ fn exact_result(
     stats.input_triangles = input.triangles.len();
     clock.end(Stage::Ingest)?;
 
-    // The self-intersection check's trees over each operand's triangles serve classification's
-    // rays; without the check, the first ray builds them.
+    // The trees the self-intersection check keeps (where the winding classification will
+    // cast a ray per patch) serve classification's rays; the others are built before the
+    // rays that need them.
     let (self_pairs, general, trees) = if options.check_self_intersections {
         let (pairs, trees) = match suspects {
             None => ingest::self_intersecting_pairs(&input, progress)?,

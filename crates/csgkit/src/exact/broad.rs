@@ -23,9 +23,6 @@ use crate::index::{Aabb, Bvh, CellSpan, Occupancy};
 use super::ingest::Input;
 use super::intersect::planes_separate;
 
-/// Triangles per operand whose boxes set the grid's cell size.
-const SIZE_SAMPLES: usize = 2048;
-
 /// The box of triangle `t`.
 pub(crate) fn triangle_box(input: &Input, t: usize) -> Aabb {
     Aabb::from_points(input.triangle_positions(t).iter())
@@ -43,8 +40,8 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         let box_a = |s: usize| triangle_box(input, s + a.start);
         let box_b = |t: usize| triangle_box(input, t + b.start);
         // The triangles' size, from a few thousand of them spread over each operand.
-        let spread = |len: usize| (0..len).step_by(len.div_ceil(SIZE_SAMPLES).max(1));
-        let samples = (spread(a.len()).map(box_a)).chain(spread(b.len()).map(box_b));
+        let samples = (Occupancy::size_samples(a.len()).map(box_a))
+            .chain(Occupancy::size_samples(b.len()).map(box_b));
         let side = Occupancy::side_for(&region, samples);
         let ((cells_a, spans_a), (cells_b, spans_b)) = join(
             || Occupancy::of(&region, side, a.len(), box_a),

@@ -26,6 +26,10 @@ const MAX_SIDE: usize = 128;
 /// Boxes marked per parallel task (each task fills a bitset of its own).
 const MARK_CHUNK: usize = 1 << 16;
 
+/// The most boxes [`Occupancy::size_samples`] picks: a few thousand set a cell size as well
+/// as all of them.
+const SIZE_SAMPLES: usize = 2048;
+
 /// The cells of a uniform grid over a frame that a set of boxes overlaps.
 #[derive(Clone, Debug)]
 pub struct Occupancy {
@@ -84,6 +88,12 @@ impl Occupancy {
         } else {
             cells.ceil().clamp(1.0, MAX_SIDE as f64) as usize
         }
+    }
+
+    /// Indices `0..len` spread evenly, at most [`SIZE_SAMPLES`] of them: which of a set's
+    /// boxes to give [`Occupancy::side_for`].
+    pub fn size_samples(len: usize) -> impl Iterator<Item = usize> {
+        (0..len).step_by(len.div_ceil(SIZE_SAMPLES).max(1))
     }
 
     /// The cells of a `side`³ grid over `frame` (`side` at most [`MAX_SIDE`]) that the boxes

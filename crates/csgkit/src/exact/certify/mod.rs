@@ -78,9 +78,6 @@ use super::self_intersect::pair_intersects;
 
 mod slivers;
 
-/// Moved faces whose boxes set the cell size of `faces_near`'s grid.
-const SIZE_SAMPLES: usize = 2048;
-
 /// Snap levels grow by this many doublings of the grid each round.
 pub(crate) const SNAP_LEVEL_STEP: i32 = 4;
 
@@ -416,8 +413,8 @@ fn faces_near(
     // A coarse grid of the cells the seeds' boxes cover turns most faces away in a few bit
     // tests: the moved faces lie along intersection curves, and a query of the tree from a
     // face far from them still descends through the boxes of curves that cross the model.
-    let samples = (seeds.iter()).step_by(seeds.len().div_ceil(SIZE_SAMPLES).max(1));
-    let side = Occupancy::side_for(&bounds, samples.map(|&f| widened(f as usize)));
+    let samples = Occupancy::size_samples(seeds.len()).map(|i| widened(seeds[i] as usize));
+    let side = Occupancy::side_for(&bounds, samples);
     let (cells, _) = Occupancy::of(&bounds, side, seeds.len(), |i| widened(seeds[i] as usize));
     let test = |f: u32| {
         let b = face_box(f as usize);
