@@ -397,6 +397,7 @@ mod sequential {
         where
             F: FnMut(&T, &T) -> std::cmp::Ordering;
         fn par_sort_unstable_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F);
+        fn par_sort_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F);
     }
 
     impl<T> ParallelSliceMut<T> for [T] {
@@ -414,6 +415,9 @@ mod sequential {
         }
         fn par_sort_unstable_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F) {
             self.sort_unstable_by_key(key);
+        }
+        fn par_sort_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F) {
+            self.sort_by_key(key);
         }
     }
 
