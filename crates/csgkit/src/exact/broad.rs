@@ -23,11 +23,6 @@ use crate::index::{Aabb, Bvh, CellSpan, Occupancy};
 use super::ingest::Input;
 use super::intersect::planes_separate;
 
-/// The box of triangle `t`.
-pub(crate) fn triangle_box(input: &Input, t: usize) -> Aabb {
-    Aabb::from_points(input.triangle_positions(t).iter())
-}
-
 /// Every pair `(s, t)` with `s < t` of triangles of different operands whose boxes overlap
 /// and whose planes do not separate them, sorted.
 pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
@@ -37,8 +32,8 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
             return Vec::new();
         }
         let (a, b) = (input.operand_triangles(0), input.operand_triangles(1));
-        let box_a = |s: usize| triangle_box(input, s + a.start);
-        let box_b = |t: usize| triangle_box(input, t + b.start);
+        let box_a = |s: usize| input.triangle_box(s + a.start);
+        let box_b = |t: usize| input.triangle_box(t + b.start);
         // The triangles' size, from a few thousand of them spread over each operand.
         let samples = (Occupancy::size_samples(a.len()).map(box_a))
             .chain(Occupancy::size_samples(b.len()).map(box_b));
@@ -66,7 +61,7 @@ pub(crate) fn candidate_pairs(input: &Input) -> Vec<(u32, u32)> {
         let near_other: Vec<Aabb> = (0..input.triangles.len())
             .into_par_iter()
             .map(|t| {
-                let (mine, own) = (input.operand[t], triangle_box(input, t));
+                let (mine, own) = (input.operand[t], input.triangle_box(t));
                 let near = operand_tree.any_overlapping(&own, |k| k != mine);
                 if near { own } else { Aabb::EMPTY }
             })
@@ -115,8 +110,9 @@ mod tests {
             for s in 0..n {
                 for t in s + 1..n {
                     let (a, b) = (input.triangle(s as usize), input.triangle(t as usize));
-                    let boxes = triangle_box(&input, s as usize)
-                        .overlaps(&triangle_box(&input, t as usize));
+                    let boxes = input
+                        .triangle_box(s as usize)
+                        .overlaps(&input.triangle_box(t as usize));
                     if !boxes || input.operand[s as usize] == input.operand[t as usize] {
                         continue;
                     }

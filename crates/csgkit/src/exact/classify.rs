@@ -354,7 +354,7 @@ fn cast_rays(
                     .into_par_iter()
                     .filter(|&t| {
                         input.operand[t as usize] != own
-                            && super::broad::triangle_box(input, t as usize).overlaps(&query)
+                            && input.triangle_box(t as usize).overlaps(&query)
                     })
                     .collect();
                 counter.advance(1);

@@ -180,6 +180,12 @@ impl Input {
             .vertices()
             .map(|v| self.positions[v as usize])
     }
+
+    /// The box of triangle `t`.
+    #[inline]
+    pub(crate) fn triangle_box(&self, t: usize) -> Aabb {
+        Aabb::from_points(self.triangle_positions(t).iter())
+    }
 }
 
 /// Builds the [`Input`] of `operands`.
@@ -262,7 +268,7 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
     input.operand_boxes = (0..operands.len())
         .map(|k| {
             (input.operand_triangles(k).into_par_iter())
-                .map(|t| Aabb::from_points(input.triangle_positions(t).iter()))
+                .map(|t| input.triangle_box(t))
                 .reduce_with(|a, b| a.union(&b))
                 .unwrap_or(Aabb::EMPTY)
         })
@@ -576,13 +582,13 @@ fn signed_volume(input: &Input, k: usize) -> f64 {
 /// [`self_intersections`](super::self_intersections), whose pairs the driver adds to the
 /// arrangement. Each operand checked is reported to `progress`.
 ///
-/// # Errors
-/// [`Cancelled`] when the run was cancelled.
-///
 /// Also returns the trees over each operand's triangles that the check walked, from the
 /// first operand found to intersect itself on (or all, for operands with repeated faces):
 /// those the winding classification will query again ([`TriangleTrees`]). The others go,
 /// so that a check of large simple operands holds one tree at a time.
+///
+/// # Errors
+/// [`Cancelled`] when the run was cancelled.
 pub(crate) fn self_intersecting_pairs<'a>(
     input: &'a Input,
     progress: &Progress,
@@ -652,9 +658,7 @@ impl<'a> TriangleTrees<'a> {
     fn tree(&self, k: usize) -> &Bvh {
         self.trees[k].get_or_init(|| {
             let range = self.input.operand_triangles(k);
-            let box_of =
-                |i: usize| Aabb::from_points(self.input.triangle_positions(range.start + i).iter());
-            Bvh::build_with(range.len(), box_of)
+            Bvh::build_with(range.len(), |i| self.input.triangle_box(range.start + i))
         })
     }
 

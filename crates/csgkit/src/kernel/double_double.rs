@@ -19,9 +19,10 @@
 //! arithmetic" (ACM TOMS 44, 2017), whose relative error against the exact operation on the
 //! operands' double-double values is at most `3u² + 13u³` for the sum (`u = 2^-53`) and, for
 //! the product, below `2^-102` (the bound CRlibm states for the same algorithm, its `Mul22`;
-//! the paper proves a tighter one), as long as nothing underflows or overflows. Each operation charges its result's radius
-//! [`RELATIVE_ERROR`] times `|hi|` (several times those bounds) plus [`ABSOLUTE_ERROR`] (far
-//! above what gradual underflow of a partial product can lose), on top of the operands'
+//! the paper proves a tighter one), as long as nothing underflows or overflows. Each
+//! operation charges its result's radius [`RELATIVE_ERROR`] times `|hi|` (several times those
+//! bounds) plus [`ABSOLUTE_ERROR`] (far above what gradual underflow of a partial product
+//! can lose), on top of the operands'
 //! propagated radii (`err_a + err_b` for a sum, `|a| err_b + |b| err_a + err_a err_b` for a
 //! product); every term of the radius is rounded up by one ulp (`next_up`), as the interval
 //! filter does, so it stays an upper bound.

@@ -408,14 +408,15 @@ fn faces_near(
             max: b.max.map(|x| x + margin),
         }
     };
-    let tree = Bvh::build_with(seeds.len(), |i| widened(seeds[i] as usize));
+    let seed_boxes: Vec<Aabb> = seeds.iter().map(|&f| widened(f as usize)).collect();
+    let tree = Bvh::build(&seed_boxes);
     let bounds = tree.bounds();
     // A coarse grid of the cells the seeds' boxes cover turns most faces away in a few bit
     // tests: the moved faces lie along intersection curves, and a query of the tree from a
     // face far from them still descends through the boxes of curves that cross the model.
-    let samples = Occupancy::size_samples(seeds.len()).map(|i| widened(seeds[i] as usize));
+    let samples = Occupancy::size_samples(seeds.len()).map(|i| seed_boxes[i]);
     let side = Occupancy::side_for(&bounds, samples);
-    let (cells, _) = Occupancy::of(&bounds, side, seeds.len(), |i| widened(seeds[i] as usize));
+    let (cells, _) = Occupancy::of(&bounds, side, seeds.len(), |i| seed_boxes[i]);
     let test = |f: u32| {
         let b = face_box(f as usize);
         b.overlaps(&bounds) && cells.touches(cells.span(&b)) && tree.any_overlapping(&b, |_| true)
