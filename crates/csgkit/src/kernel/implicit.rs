@@ -21,7 +21,7 @@ use super::cascade::{Formula, Homogeneous, decide};
 use super::double_double::DoubleDouble;
 use super::expansion::Expansion;
 use super::interval::{Interval, next_down, next_up};
-use super::nearby::Nearby;
+use super::nearby::{self, Nearby};
 use super::{Axis, Sign};
 
 /// A point given by three f64 coordinates.
@@ -198,6 +198,9 @@ impl Point {
         if !all_finite(&def) {
             return None;
         }
+        if let Some(pinned) = lpi_on_axis_planes(p, q, &[r, s, t]) {
+            return Some(pinned);
+        }
         let filter = lpi_hom(&def, &Interval::exact);
         let pt = Point::Lpi(Lpi {
             def,
@@ -224,6 +227,9 @@ impl Point {
     pub fn tpi(planes: [[Point3; 3]; 3]) -> Option<Point> {
         if !all_finite(planes.as_flattened()) {
             return None;
+        }
+        if let Some(pinned) = tpi_on_axis_planes(&planes) {
+            return Some(pinned);
         }
         let filter = tpi_hom(&planes, &Interval::exact);
         let pt = Point::Tpi(Tpi {
@@ -353,6 +359,59 @@ impl Point {
             Point::Tpi(t) => t.w_sign,
         }
     }
+}
+
+/// The axis plane a non-degenerate triangle lies in, as the axis and the coordinate its
+/// corners share, when they share exactly one and the filter shows the corners, projected
+/// along that axis, are not collinear (the normal, along that axis, is that orientation);
+/// `None` otherwise, degenerate triangles included.
+fn axis_plane(t: &[Point3; 3]) -> Option<(usize, f64)> {
+    let shares = |k: usize| t[1][k] == t[0][k] && t[2][k] == t[0][k];
+    let k = match [shares(0), shares(1), shares(2)] {
+        [true, false, false] => 0,
+        [false, true, false] => 1,
+        [false, false, true] => 2,
+        _ => return None,
+    };
+    let [a, b, c] = t.map(Nearby::exact);
+    nearby::orient2d(&a, &b, &c, (k + 1) % 3, (k + 2) % 3)?;
+    Some((k, t[0][k]))
+}
+
+/// [`Point::lpi`] as an explicit point when its plane is an axis plane (of a non-degenerate
+/// triangle) and its line runs along that axis (its ends share their other two coordinates):
+/// the point is then those three input coordinates.
+///
+/// Why: on boxes, Menger sponges and most CAD parts, edges along one axis cross faces across
+/// it. Such points are input coordinates exactly; built as implicit points they cost two
+/// thousand instructions each in interval arithmetic, and every later predicate on them many
+/// more, where on an explicit point it is a few float operations.
+fn lpi_on_axis_planes(p: Point3, q: Point3, plane: &[Point3; 3]) -> Option<Point> {
+    let (k, level) = axis_plane(plane)?;
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    if p[i] != q[i] || p[j] != q[j] || p[k] == q[k] {
+        return None;
+    }
+    let mut x = p;
+    x[k] = level;
+    Some(Point::Explicit(x))
+}
+
+/// [`Point::tpi`] as an explicit point when its planes are axis planes (of non-degenerate
+/// triangles) of the three axes: the point is their three coordinates. The coplanar crossings
+/// of axis-aligned edges (two faces of two boxes) are such points; see
+/// [`lpi_on_axis_planes`] for why.
+fn tpi_on_axis_planes(planes: &[[Point3; 3]; 3]) -> Option<Point> {
+    let mut coordinates = [None; 3];
+    for plane in planes {
+        let (k, level) = axis_plane(plane)?;
+        coordinates[k] = Some(level);
+    }
+    // Two planes along one axis leave a coordinate unset.
+    let [Some(x), Some(y), Some(z)] = coordinates else {
+        return None;
+    };
+    Some(Point::Explicit([x, y, z]))
 }
 
 /// The Cartesian coordinates `X / W`, `Y / W`, `Z / W` of interval homogeneous coordinates,

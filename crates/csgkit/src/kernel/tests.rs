@@ -449,6 +449,51 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(config(300, 0x6b65_726e_656c_0009))]
+
+    /// An axis-parallel line against an axis plane across it, and three axis planes of the
+    /// three axes, are built as explicit points: exactly the oracle's, and refused exactly
+    /// where the oracle finds no single point (degenerate triangles, on a coarse grid where
+    /// many are). Any other placement is left implicit.
+    #[test]
+    fn points_on_axis_planes_are_explicit_and_exact(
+        grid in prop::collection::vec(-2i32..=2, 42),
+        axes in prop::array::uniform3(0usize..3),
+    ) {
+        let c: Vec<f64> = grid.iter().map(|&v| f64::from(v) * 0.5).collect();
+        let p = |i: usize| [c[3 * i], c[3 * i + 1], c[3 * i + 2]];
+        let on_axis_plane = |mut t: [Point3; 3], k: usize| {
+            let level = t[0][k];
+            t.iter_mut().for_each(|x| x[k] = level);
+            t
+        };
+        let agrees = |made: Option<Point>, exact: Option<Q3>, pinned: bool| {
+            match (made, exact) {
+                (None, None) => Ok(()),
+                (Some(x), Some(exact)) => {
+                    prop_assert_eq!(x.is_explicit(), pinned, "{:?}", x);
+                    prop_assert_eq!(oracle_point(&x), exact);
+                    Ok(())
+                }
+                (made, exact) => Err(TestCaseError::fail(format!("{made:?} against {exact:?}"))),
+            }
+        };
+        // The line along axis k (its ends share the other two coordinates).
+        let k = axes[0];
+        let (a, mut b) = (p(0), p(1));
+        for i in [(k + 1) % 3, (k + 2) % 3] {
+            b[i] = a[i];
+        }
+        let plane = on_axis_plane([p(2), p(3), p(4)], axes[1]);
+        let pinned = axes[1] == k && a[k] != b[k];
+        agrees(Point::lpi(a, b, plane[0], plane[1], plane[2]), oracle_lpi(&a, &b, &plane), pinned)?;
+        let planes = [0, 1, 2].map(|i| on_axis_plane([p(5 + 3 * i), p(6 + 3 * i), p(7 + 3 * i)], axes[i]));
+        let distinct = axes[0] != axes[1] && axes[1] != axes[2] && axes[0] != axes[2];
+        agrees(Point::tpi(planes), oracle_tpi(&planes), distinct)?;
+    }
+}
+
 /// Explicit orient2d/orient3d against the oracle at every magnitude, including the ranges
 /// where `robust` is bypassed.
 #[test]
