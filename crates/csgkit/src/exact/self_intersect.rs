@@ -296,21 +296,27 @@ fn counts(a: &Prepared, b: &Prepared, full: impl FnOnce() -> (Triangle, Triangle
                 };
             }
             let j = usize::from(va[1] == vb[k]) + 2 * usize::from(va[2] == vb[k]);
+            if s1 == Sign::Zero || s2 == Sign::Zero {
+                // `b` meets `a`'s plane only along its edge from the shared vertex to the
+                // vertex on that plane.
+                let on_plane = if s1 == Sign::Zero { 1 } else { 2 };
+                return in_corner(a, j, pb[(k + on_plane) % 3]);
+            }
             let (Some(t1), Some(t2)) = (side(b, pa[(j + 1) % 3]), side(b, pa[(j + 2) % 3])) else {
                 return false;
             };
-            if t1 == t2 && t1 != Sign::Zero {
+            if t1 == t2 {
+                // Both strictly on one side: were both on `b`'s plane, `a` would lie in it and
+                // `b` in `a`'s.
                 return false;
             }
-            if s1 == s2.flip() && t1 == t2.flip() {
-                // Each straddles the other's plane (no sign is zero, as they differ).
-                let corner = [pa[j], pa[(j + 1) % 3], pa[(j + 2) % 3]];
-                return chords_agree(corner, [pb[(k + 1) % 3], pb[(k + 2) % 3]], s1);
+            if t1 == Sign::Zero || t2 == Sign::Zero {
+                let on_plane = if t1 == Sign::Zero { 1 } else { 2 };
+                return in_corner(b, k, pa[(j + on_plane) % 3]);
             }
-            !is_separated() && {
-                let (ta, tb) = full();
-                by_classification(&ta, &tb, 1)
-            }
+            // Each straddles the other's plane.
+            let corner = [pa[j], pa[(j + 1) % 3], pa[(j + 2) % 3]];
+            chords_agree(corner, [pb[(k + 1) % 3], pb[(k + 2) % 3]], s1)
         }
         _ => {
             let one_side = |t: &Prepared, points: &[Point3; 3]| match t.one_side_if_clear(points) {
@@ -390,6 +396,24 @@ fn an_edge_separates(
 fn chords_agree(corner: [Point3; 3], [b1, b2]: [Point3; 2], side_b1: Sign) -> bool {
     let [v, a1, _] = corner;
     orient3d(b1, b2, v, a1) == side_b1.flip()
+}
+
+/// Whether `p`, a point of the plane of `t` other than its corner `c`, lies in the closed
+/// corner of `t` at `c` (the cone from that corner over the triangle): then a segment from
+/// the corner to `p` runs into `t`. Exact [`orient2d`] in `t`'s projection, which is one to
+/// one on its plane: `p - v = α (x - v) + β (y - v)` for the corner `v, x, y`, and the two
+/// orientations below are `β` and `α` times the corner's turn.
+///
+/// Why: a triangle that shares a vertex with another and has its second vertex on the other's
+/// plane (the third off it) meets that plane only along the edge between them; the two meet
+/// beyond the shared vertex exactly when that edge runs into the other's corner. Pieces of
+/// one face, cut apart by a boolean and rounded, are full of such pairs, which the full
+/// classification would decide by building and ordering intersection points.
+fn in_corner(t: &Prepared, c: usize, p: Point3) -> bool {
+    let project = |x: Point3| t.drop.project(x);
+    let [v, x, y] = [0, 1, 2].map(|i| project(t.corners[(c + i) % 3]));
+    let p = project(p);
+    orient2d(v, x, p) != t.turn.flip() && orient2d(v, p, y) != t.turn.flip()
 }
 
 /// A triangle `p, q, r` with its plane, prepared for side tests of points.
