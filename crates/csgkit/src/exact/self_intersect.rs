@@ -256,7 +256,8 @@ fn triangles(mesh: &Mesh) -> (Vec<FaceId>, Vec<Triangle>, Vec<PolygonError>) {
 ///   ([`folded_over`]);
 /// - sharing one vertex: the other two vertices of either triangle strictly on one side of
 ///   the other's plane leave the shared vertex as the only common point; both on the plane:
-///   coplanar, decided by [`wedges_overlap`];
+///   coplanar, decided by [`wedges_overlap`]; one on it: [`in_corner`]; each straddling the
+///   other's plane: [`chords_agree`];
 /// - sharing nothing: all three vertices of either triangle strictly on one side of the
 ///   other's plane: disjoint.
 ///
