@@ -408,6 +408,20 @@ fn faces_near(
             max: b.max.map(|x| x + margin),
         }
     };
+    let candidates = within.map_or(corners.len() / 3, <[u32]>::len);
+    if 2 * seeds.len() >= candidates {
+        // The seeds are half of the faces or more (small meshes, where most faces carry a
+        // rounded vertex): a tree and a grid over them would turn few faces away, and cost
+        // more than the pair tests they would save.
+        let mut near: Vec<u32> = match within {
+            Some(faces) => faces.to_vec(),
+            None => (0..candidates as u32).collect(),
+        };
+        near.extend_from_slice(seeds);
+        near.sort_unstable();
+        near.dedup();
+        return near;
+    }
     let seed_boxes: Vec<Aabb> = seeds.iter().map(|&f| widened(f as usize)).collect();
     let tree = Bvh::build(&seed_boxes);
     let bounds = tree.bounds();
