@@ -11,7 +11,7 @@ use num_traits::{CheckedAdd, CheckedMul, CheckedSub, Zero};
 use super::Sign;
 use super::double_double::DoubleDouble;
 use super::expansion::Expansion;
-use super::interval::Interval;
+use super::interval::{Interval, Tracked};
 
 /// Ring operations plus a possibly-undecided sign.
 pub(crate) trait Arith: Clone {
@@ -38,6 +38,25 @@ impl Arith for Interval {
     #[inline]
     fn sign(&self) -> Option<Sign> {
         Interval::sign(self)
+    }
+}
+
+impl Arith for Tracked {
+    #[inline]
+    fn add(&self, o: &Self) -> Self {
+        Tracked::add(self, o)
+    }
+    #[inline]
+    fn sub(&self, o: &Self) -> Self {
+        Tracked::sub(self, o)
+    }
+    #[inline]
+    fn mul(&self, o: &Self) -> Self {
+        Tracked::mul(self, o)
+    }
+    /// Never asked: a [`Tracked`] is turned into an [`Interval`] before any sign is read.
+    fn sign(&self) -> Option<Sign> {
+        None
     }
 }
 

@@ -20,7 +20,7 @@ use super::arith::Arith;
 use super::cascade::{Formula, Homogeneous, decide};
 use super::double_double::DoubleDouble;
 use super::expansion::Expansion;
-use super::interval::{Interval, next_down, next_up};
+use super::interval::{Interval, Tracked, next_down, next_up};
 use super::nearby::{self, Nearby};
 use super::{Axis, Sign};
 
@@ -201,7 +201,7 @@ impl Point {
         if let Some(pinned) = lpi_on_axis_planes(p, q, &[r, s, t]) {
             return Some(pinned);
         }
-        let filter = lpi_hom(&def, &Interval::exact);
+        let filter = filter_hom(&def, |conv| lpi_hom(&def, conv), |conv| lpi_hom(&def, conv));
         let pt = Point::Lpi(Lpi {
             def,
             filter,
@@ -231,7 +231,11 @@ impl Point {
         if let Some(pinned) = tpi_on_axis_planes(&planes) {
             return Some(pinned);
         }
-        let filter = tpi_hom(&planes, &Interval::exact);
+        let filter = filter_hom(
+            planes.as_flattened(),
+            |conv| tpi_hom(&planes, conv),
+            |conv| tpi_hom(&planes, conv),
+        );
         let pt = Point::Tpi(Tpi {
             planes,
             filter,
@@ -412,6 +416,27 @@ fn tpi_on_axis_planes(planes: &[[Point3; 3]; 3]) -> Option<Point> {
         return None;
     };
     Some(Point::Explicit([x, y, z]))
+}
+
+/// A point's homogeneous coordinates as filter intervals, from its defining points `def`:
+/// evaluated as [`Tracked`] numbers when every defining coordinate is zero or of magnitude in
+/// `[2^-30, 2^30]` (at most `2^30` for its numeric model, at least `2^-30` so that its
+/// allowance for underflow, `2^-800`, stays far below the coordinates' own errors), else (or
+/// when that overflows) in interval arithmetic.
+fn filter_hom(
+    def: &[Point3],
+    tracked: impl FnOnce(&dyn Fn(f64) -> Tracked) -> [Tracked; 4],
+    interval: impl FnOnce(&dyn Fn(f64) -> Interval) -> [Interval; 4],
+) -> [Interval; 4] {
+    let (low, high) = (2f64.powi(-30), 2f64.powi(30));
+    let in_range = |x: f64| x == 0.0 || (low..=high).contains(&x.abs());
+    if def.iter().flatten().all(|&x| in_range(x)) {
+        let [x, y, z, w] = tracked(&Tracked::exact).map(|t| t.enclosure());
+        if let (Some(x), Some(y), Some(z), Some(w)) = (x, y, z, w) {
+            return [x, y, z, w];
+        }
+    }
+    interval(&Interval::exact)
 }
 
 /// The Cartesian coordinates `X / W`, `Y / W`, `Z / W` of interval homogeneous coordinates,

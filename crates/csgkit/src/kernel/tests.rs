@@ -81,9 +81,33 @@ fn check_stages(f: &impl Formula, want: Sign, what: &dyn Fn() -> String) {
     }
 }
 
+/// The filter intervals an implicit point keeps (built in [`Tracked`](super::interval::Tracked)
+/// arithmetic where its inputs allow, else in intervals) enclose its exact homogeneous
+/// coordinates, where expansions give them exactly.
+fn check_filter_encloses(p: &Point) {
+    use super::cascade::Homogeneous;
+    use super::expansion::Expansion;
+    let exact = p.hom(&Expansion::exact, &Expansion::exact(1.0));
+    for (interval, exact) in p.filter_hom().iter().zip(&exact) {
+        let (lo, hi) = (interval.lo(), interval.hi());
+        if !(lo.is_finite() && hi.is_finite()) {
+            continue;
+        }
+        let below = exact.sub(&Expansion::exact(lo)).sign();
+        let above = Expansion::exact(hi).sub(exact).sign();
+        if let (Some(below), Some(above)) = (below, above) {
+            assert!(
+                below != Sign::Negative && above != Sign::Negative,
+                "[{lo:e}, {hi:e}] does not enclose a coordinate of {p:?}"
+            );
+        }
+    }
+}
+
 /// Runs every predicate on `pts` (at least four points) and compares with the oracle.
 /// Returns the number of predicate evaluations checked.
 fn check_all(pts: &[Point]) -> usize {
+    pts.iter().for_each(check_filter_encloses);
     let qs: Vec<Q3> = pts.iter().map(oracle_point).collect();
     let n = pts.len();
     let w: Vec<Sign> = pts.iter().map(|p| p.w_sign()).collect();
