@@ -55,8 +55,8 @@
 use std::cmp::Ordering;
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, compare_along, compare_lex, orient2d, orient2d_projected, orient3d,
-    side_of_axis_plane,
+    Axis, PlaneFilter, Point, Point3, Sign, compare_along, compare_lex, orient2d,
+    orient2d_projected, orient3d, side_of_axis_plane,
 };
 
 /// A sorted pair of vertex ids: an edge, independent of the triangle that uses it.
@@ -381,9 +381,15 @@ pub(crate) fn planes_separate(a: &Triangle, b: &Triangle) -> bool {
     one_side(&plane_signs(a, b)) || one_side(&plane_signs(b, a))
 }
 
-/// [`orient3d`] of each vertex of `t` against the plane of `other` ([`Triangle::side`]).
+/// [`orient3d`] of each vertex of `t` against the plane of `other` ([`Triangle::side`]), where
+/// a [`PlaneFilter`] of that plane does not decide first (planes along an axis decide by a
+/// comparison there).
 fn plane_signs(t: &Triangle, other: &Triangle) -> [Sign; 3] {
-    std::array::from_fn(|i| other.side(t.vertices[i], t.positions[i]))
+    let plane = (other.axis_level().is_none()).then(|| PlaneFilter::new(&other.positions));
+    std::array::from_fn(|i| {
+        let clear = plane.and_then(|plane| plane.side_if_clear(t.positions[i]));
+        clear.unwrap_or_else(|| other.side(t.vertices[i], t.positions[i]))
+    })
 }
 
 fn one_side(s: &[Sign; 3]) -> bool {

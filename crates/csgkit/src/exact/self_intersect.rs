@@ -75,8 +75,8 @@ use crate::par::*;
 use super::intersect::{Intersection, Triangle, intersect_triangles};
 use crate::index::{Aabb, Bvh};
 use crate::kernel::{
-    Axis, Point3, Sign, orient2d, orient2d_filterable, orient2d_value_if_clear, orient3d,
-    side_of_axis_plane,
+    Axis, PlaneFilter, Point3, Sign, orient2d, orient2d_filterable, orient2d_value_if_clear,
+    orient3d, side_of_axis_plane,
 };
 use crate::mesh::{FaceId, Mesh, PolygonError, triangulate_faces_partial, weld_positions};
 
@@ -426,24 +426,13 @@ fn in_corner(t: &Prepared, c: usize, p: Point3) -> bool {
 ///   `p_k` times the triangle's turn in the plane (expand the determinant along column `k`),
 ///   computed once; exact, with no rounding at all. It also keeps coplanar points, common on
 ///   such models, away from the slow exact stages [`orient3d`] needs for a zero.
-/// - **filtered**: CGAL's semi-static filter for `orient3d` (`Static_filters/Orientation_3.h`,
-///   error bound by Meyer & Pion's FPG, "A C++ static floating-point filter generator",
-///   2008): the determinant of the rows `q - p`, `r - p`, `s - p` evaluated in f64 is the
-///   true sign when its magnitude exceeds `5.1107127829973299e-15` times the product of the
-///   largest absolute entry of each row, provided those three maxima lie in `[1e-97, 1e102)`
-///   (no underflow or overflow). CGAL bounds the columns of its matrix; we evaluate the
-///   transposed matrix, whose columns are our rows, with the same formula (CGAL's
-///   `determinant`: 2 × 2 minors of its first two columns, then expansion along the third),
-///   so the minors involve only `q - p` and `r - p` and are computed once per plane. When
-///   the filter cannot decide, [`orient3d`] does.
+/// - **filtered**: CGAL's semi-static filter for `orient3d` ([`PlaneFilter`]), whose 2 × 2
+///   minors involve only `q - p` and `r - p` and are computed once per plane. When the
+///   filter cannot decide, [`orient3d`] does.
 #[derive(Clone, Copy, Debug)]
 struct Prepared {
     corners: [Point3; 3],
-    /// CGAL's `m01`, `m02`, `m12` of the transposed matrix (see above).
-    minors: [f64; 3],
-    /// The error bound's constant times the maxima of the rows `q - p` and `r - p`; NaN when
-    /// they are out of the filter's range, which fails every comparison.
-    scale: f64,
+    plane: PlaneFilter,
     vertices: [u32; 3],
     /// The axis `k` whose coordinate all three corners share, if any, and the turn of the
     /// corners projected along it ([`orient2d`] of coordinates `k + 1`, `k + 2`).
@@ -454,37 +443,16 @@ struct Prepared {
     turn: Sign,
 }
 
-/// The semi-static error bound of CGAL's `Orientation_3` filter (see [`Prepared`]).
-const O3D_STATIC_BOUND: f64 = 5.110_712_782_997_33e-15;
-/// Row maxima below this may underflow in the filter: `cbrt(f64::MIN_POSITIVE / eps)`.
-const O3D_STATIC_LOW: f64 = 1e-97;
-/// Row maxima at or above this may overflow in the filter.
-const O3D_STATIC_HIGH: f64 = 1e102;
-
 impl Prepared {
     /// The plane of `triangle`.
     fn new(triangle: &Triangle) -> Prepared {
         let [p, q, r] = triangle.positions();
         let aligned =
             (triangle.axis_level()).map(|_| (triangle.drop_axis().index() as u8, triangle.turn()));
-        let (pq, pr) = (sub(q, p), sub(r, p));
-        let minors = [
-            pq[0] * pr[1] - pq[1] * pr[0],
-            pq[0] * pr[2] - pq[2] * pr[0],
-            pq[1] * pr[2] - pq[2] * pr[1],
-        ];
-        let (mq, mr) = (max_abs(pq), max_abs(pr));
-        // Same operation order as CGAL's `eps = c * maxx * maxy * maxz`.
-        let scale = if in_filter_range(mq) && in_filter_range(mr) {
-            O3D_STATIC_BOUND * mq * mr
-        } else {
-            f64::NAN
-        };
         Prepared {
             corners: [p, q, r],
+            plane: PlaneFilter::new(&[p, q, r]),
             vertices: triangle.vertices(),
-            minors,
-            scale,
             aligned,
             drop: triangle.drop_axis(),
             turn: triangle.turn(),
@@ -504,11 +472,7 @@ impl Prepared {
             let axis = usize::from(axis);
             return Some(side_of_axis_plane(self.corners[0][axis], s[axis], turn));
         }
-        match self.filter(s) {
-            (true, _) => Some(Sign::Positive),
-            (_, true) => Some(Sign::Negative),
-            _ => None,
-        }
+        self.plane.side_if_clear(s)
     }
 
     /// The side of `s`, unless the filter cannot decide it and `separated` (asked only then)
@@ -528,29 +492,13 @@ impl Prepared {
         orient3d(p, q, r, s)
     }
 
-    /// The semi-static filter's verdict on `s`, without branches: whether [`orient3d`] is
-    /// certainly positive (`s` below the plane), and whether certainly negative. Neither
-    /// when the filter cannot decide; never both.
-    #[inline]
-    fn filter(&self, s: Point3) -> (bool, bool) {
-        let [m01, m02, m12] = self.minors;
-        let ps = sub(s, self.corners[0]);
-        let det = m01 * ps[2] - m02 * ps[1] + m12 * ps[0];
-        let ms = max_abs(ps);
-        let eps = self.scale * ms;
-        // A NaN `scale` fails both comparisons. `orient3d` is positive below the plane: the
-        // opposite of this determinant's sign.
-        let certain = in_filter_range(ms);
-        (certain & (det < -eps), certain & (det > eps))
-    }
-
     /// Whether the three points are strictly on one side of the plane, where the comparison
     /// or the filter decides it (it judges all three at once); `None` elsewhere.
     fn one_side_if_clear(&self, points: &[Point3; 3]) -> Option<bool> {
         if self.aligned.is_some() {
             return Some(self.strictly_one_side_exact(points));
         }
-        let [x, y, z] = points.map(|s| self.filter(s));
+        let [x, y, z] = points.map(|s| self.plane.verdict(s));
         if (x.0 & y.0 & z.0) | (x.1 & y.1 & z.1) {
             return Some(true);
         }
@@ -565,18 +513,6 @@ impl Prepared {
         let first = self.side(points[0]);
         first != Sign::Zero && self.side(points[1]) == first && self.side(points[2]) == first
     }
-}
-
-fn in_filter_range(m: f64) -> bool {
-    (O3D_STATIC_LOW..O3D_STATIC_HIGH).contains(&m)
-}
-
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn max_abs(v: Point3) -> f64 {
-    v[0].abs().max(v[1].abs()).max(v[2].abs())
 }
 
 /// libigl's rules applied to the full classification (for pairs sharing no edge).
@@ -877,14 +813,6 @@ mod tests {
 
     /// CGAL writes the bound `5.1107127829973299e-15`; the constant is the same f64 in its
     /// shortest form.
-    #[test]
-    fn filter_bound_is_cgals() {
-        assert_eq!(
-            O3D_STATIC_BOUND,
-            "5.1107127829973299e-15".parse::<f64>().unwrap()
-        );
-    }
-
     #[test]
     fn polygon_fans_and_duplicates_do_not_count() {
         // Face 0: a square; its two triangles share an edge (one face: no pair). Face 1: a

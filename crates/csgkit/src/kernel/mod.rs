@@ -142,7 +142,8 @@ pub(crate) mod tests;
 
 pub use implicit::{Lpi, Point, Point3, Tpi};
 pub(crate) use orient::{
-    incircle_value_if_clear, normal_component_is_zero, orient2d_filterable, orient2d_value_if_clear,
+    PlaneFilter, incircle_value_if_clear, normal_component_is_zero, orient2d_filterable,
+    orient2d_value_if_clear,
 };
 pub use orient::{orient2d, orient3d, side_of_axis_plane};
 pub use predicates::{
