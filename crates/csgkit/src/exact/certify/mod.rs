@@ -376,7 +376,14 @@ fn find_problems(mesh: &Mesh, moved: &[bool]) -> Problems {
     if suspects.is_empty() {
         return Problems::default();
     }
-    let near = faces_near(mesh.positions(), corners, &suspects, 0.0, None);
+    let near = faces_near(
+        mesh.positions(),
+        corners,
+        &suspects,
+        0.0,
+        None,
+        Nearness::SameCells,
+    );
     let mut problems = problems_among(mesh.positions(), corners, &near, &suspects);
     // Both faces of a sheet have its moved vertex, so the suspects hold every sheet.
     problems.sheets = opposite_triangle_pairs(
@@ -385,14 +392,28 @@ fn find_problems(mesh: &Mesh, moved: &[bool]) -> Problems {
     problems
 }
 
+/// Which faces [`faces_near`] returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Nearness {
+    /// Exactly those whose boxes overlap a seed's box.
+    Overlapping,
+    /// Those, and others not far from them: every face in a cell of a coarse grid that a
+    /// seed's box covers, or every face when the seeds are half of them or more. For callers
+    /// that test boxes again (the pair walk), where a tree query per face to sort out the
+    /// few extra ones costs more than those faces do: on two offset copies of a model the
+    /// moved faces lie everywhere, and the queries were a third of certify's time.
+    SameCells,
+}
+
 /// The faces (of `within`, or of all) whose boxes overlap the box of one of `seeds` widened
-/// by `margin`, seeds included, sorted.
+/// by `margin` (and others with [`Nearness::SameCells`]), seeds included, sorted.
 fn faces_near(
     positions: &[Point3],
     corners: &[u32],
     seeds: &[u32],
     margin: f64,
     within: Option<&[u32]>,
+    nearness: Nearness,
 ) -> Vec<u32> {
     let face_box = |f: usize| {
         Aabb::from_points(
@@ -409,43 +430,45 @@ fn faces_near(
         }
     };
     let candidates = within.map_or(corners.len() / 3, <[u32]>::len);
-    if 2 * seeds.len() >= candidates {
-        // The seeds are half of the faces or more (small meshes, where most faces carry a
-        // rounded vertex): a tree and a grid over them would turn few faces away, and cost
-        // more than the pair tests they would save.
-        let mut near: Vec<u32> = match within {
-            Some(faces) => faces.to_vec(),
-            None => (0..candidates as u32).collect(),
-        };
+    let with_seeds = |mut near: Vec<u32>| {
         near.extend_from_slice(seeds);
         near.sort_unstable();
         near.dedup();
-        return near;
+        near
+    };
+    if nearness == Nearness::SameCells && 2 * seeds.len() >= candidates {
+        // Small meshes, where most faces carry a rounded vertex: a grid over the seeds would
+        // turn few faces away.
+        return with_seeds(match within {
+            Some(faces) => faces.to_vec(),
+            None => (0..candidates as u32).collect(),
+        });
     }
     let seed_boxes: Vec<Aabb> = seeds.iter().map(|&f| widened(f as usize)).collect();
-    let tree = Bvh::build(&seed_boxes);
-    let bounds = tree.bounds();
+    let bounds = (seed_boxes.iter()).fold(Aabb::EMPTY, |b, s| b.union(s));
     // A coarse grid of the cells the seeds' boxes cover turns most faces away in a few bit
-    // tests: the moved faces lie along intersection curves, and a query of the tree from a
-    // face far from them still descends through the boxes of curves that cross the model.
+    // tests: the moved faces lie along intersection curves, and a query of a tree of the
+    // seeds from a face far from them still descends through the boxes of curves that cross
+    // the model.
     let samples = Occupancy::size_samples(seeds.len()).map(|i| seed_boxes[i]);
     let side = Occupancy::side_for(&bounds, samples);
     let (cells, _) = Occupancy::of(&bounds, side, seeds.len(), |i| seed_boxes[i]);
+    let tree = (nearness == Nearness::Overlapping).then(|| Bvh::build(&seed_boxes));
     let test = |f: u32| {
         let b = face_box(f as usize);
-        b.overlaps(&bounds) && cells.touches(cells.span(&b)) && tree.any_overlapping(&b, |_| true)
+        b.overlaps(&bounds)
+            && cells.touches(cells.span(&b))
+            && tree
+                .as_ref()
+                .is_none_or(|tree| tree.any_overlapping(&b, |_| true))
     };
-    let mut near: Vec<u32> = match within {
+    with_seeds(match within {
         Some(faces) => faces.iter().copied().filter(|&f| test(f)).collect(),
         None => (0..(corners.len() / 3) as u32)
             .into_par_iter()
             .filter(|&f| test(f))
             .collect(),
-    };
-    near.extend_from_slice(seeds);
-    near.sort_unstable();
-    near.dedup();
-    near
+    })
 }
 
 /// The problems of the faces `near` (sorted) that involve a face of `suspects` (sorted).
@@ -555,7 +578,14 @@ fn reround(
         all.dedup();
         all
     };
-    let region = faces_near(positions, &corners, &seeds, margin, None);
+    let region = faces_near(
+        positions,
+        &corners,
+        &seeds,
+        margin,
+        None,
+        Nearness::Overlapping,
+    );
     let diagonal = diagonal_of(positions);
     let (mut count, mut largest_move) = (0, 0.0f64);
     for v in vertices {
@@ -563,7 +593,14 @@ fn reround(
             break;
         }
         let around = &faces_of[&v];
-        let local = faces_near(positions, &corners, around, margin, Some(&region));
+        let local = faces_near(
+            positions,
+            &corners,
+            around,
+            margin,
+            Some(&region),
+            Nearness::Overlapping,
+        );
         let corners_of = |f: u32| {
             let c = &corners[3 * f as usize..3 * f as usize + 3];
             [c[0], c[1], c[2]]
@@ -760,7 +797,14 @@ fn neighbourhood_vertices(mesh: &Mesh, vertices: &[u32]) -> Vec<u32> {
             c.iter().any(|v| vertices.binary_search(v).is_ok())
         })
         .collect();
-    let near = faces_near(mesh.positions(), corners, &seeds, 0.0, None);
+    let near = faces_near(
+        mesh.positions(),
+        corners,
+        &seeds,
+        0.0,
+        None,
+        Nearness::Overlapping,
+    );
     let mut out: Vec<u32> = (near.iter())
         .flat_map(|&f| corners[3 * f as usize..3 * f as usize + 3].iter().copied())
         .collect();
