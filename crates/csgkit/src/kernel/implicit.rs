@@ -387,9 +387,9 @@ fn axis_plane(t: &[Point3; 3]) -> Option<(usize, f64)> {
 /// the point is then those three input coordinates.
 ///
 /// Why: on boxes, Menger sponges and most CAD parts, edges along one axis cross faces across
-/// it. Such points are input coordinates exactly; built as implicit points they cost two
-/// thousand instructions each in interval arithmetic, and every later predicate on them many
-/// more, where on an explicit point it is a few float operations.
+/// it. Such points are input coordinates exactly; built as implicit points they cost a
+/// thousand instructions or more each (filter intervals, the sign of `W`), and every later
+/// predicate on them many more, where on an explicit point it is a few float operations.
 fn lpi_on_axis_planes(p: Point3, q: Point3, plane: &[Point3; 3]) -> Option<Point> {
     let (k, level) = axis_plane(plane)?;
     let (i, j) = ((k + 1) % 3, (k + 2) % 3);

@@ -148,11 +148,12 @@ impl Interval {
 /// in round to nearest from non-negative terms, at most four roundings, so the computed
 /// bound times `1 + 6u` covers the one stated, whose own inputs were covered the same way:
 /// over a chain of at most 30 operations (the formulas of an [`Lpi`](super::Lpi) and a
-/// [`Tpi`](super::Tpi) chain fewer than 10), `(1 + 6u)^30 < 1 + 128 ε` (`ε = 2u`). Underflow loses at most
-/// `2^-1074` per product, which later products multiply by at most the magnitudes of the
-/// other factors; with inputs of magnitude at most `2^30` (the caller's range, see
-/// `implicit::filter_hom`) and polynomials of degree 7 or less, that stays below `2^-800` in
-/// all. Overflow gives a non-finite value or bound, and no enclosure.
+/// [`Tpi`](super::Tpi) chain fewer than 10), `(1 + 6u)^30 < 1 + 128 ε` (`ε = 2u`).
+/// Underflow loses at most `2^-1074` per product, which later products multiply by at most
+/// the magnitudes of the other factors; with inputs of magnitude at most `2^30` (the
+/// caller's range, see `implicit::filter_hom`) and polynomials of degree 7 or less, that
+/// stays below `2^-800` in all. Overflow gives a non-finite value or bound, and no
+/// enclosure.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Tracked {
     value: f64,
