@@ -418,6 +418,11 @@ fn tpi_on_axis_planes(planes: &[[Point3; 3]; 3]) -> Option<Point> {
     Some(Point::Explicit([x, y, z]))
 }
 
+/// The range of defining coordinates [`filter_hom`] evaluates as [`Tracked`] numbers:
+/// `[2^-30, 2^30]`.
+const TRACKED_LOW: f64 = f64::from_bits((1023 - 30) << 52);
+const TRACKED_HIGH: f64 = f64::from_bits((1023 + 30) << 52);
+
 /// A point's homogeneous coordinates as filter intervals, from its defining points `def`:
 /// evaluated as [`Tracked`] numbers when every defining coordinate is zero or of magnitude in
 /// `[2^-30, 2^30]` (at most `2^30` for its numeric model, at least `2^-30` so that its
@@ -428,8 +433,7 @@ fn filter_hom(
     tracked: impl FnOnce(&dyn Fn(f64) -> Tracked) -> [Tracked; 4],
     interval: impl FnOnce(&dyn Fn(f64) -> Interval) -> [Interval; 4],
 ) -> [Interval; 4] {
-    let (low, high) = (2f64.powi(-30), 2f64.powi(30));
-    let in_range = |x: f64| x == 0.0 || (low..=high).contains(&x.abs());
+    let in_range = |x: f64| x == 0.0 || (TRACKED_LOW..=TRACKED_HIGH).contains(&x.abs());
     if def.iter().flatten().all(|&x| in_range(x)) {
         let [x, y, z, w] = tracked(&Tracked::exact).map(|t| t.enclosure());
         if let (Some(x), Some(y), Some(z), Some(w)) = (x, y, z, w) {

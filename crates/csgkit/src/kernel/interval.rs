@@ -208,8 +208,8 @@ impl Tracked {
     #[inline]
     pub(crate) fn enclosure(&self) -> Option<Interval> {
         const SLACK: f64 = 1.0 + 128.0 * f64::EPSILON;
-        let underflow = 2f64.powi(-800);
-        let bound = self.error * SLACK + underflow;
+        const UNDERFLOW: f64 = f64::from_bits((1023 - 800) << 52);
+        let bound = self.error * SLACK + UNDERFLOW;
         (self.value.is_finite() && bound.is_finite()).then(|| Interval {
             lo: next_down(self.value - bound),
             hi: next_up(self.value + bound),
