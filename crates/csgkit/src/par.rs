@@ -65,9 +65,13 @@ pub(crate) fn chunks<T: Sync, R: Send>(
     let mut rest = items;
     if is_inline() {
         let clock = web_time::Instant::now();
+        // Chunks double here: a short loop (the 120 pairs of two unit cubes) then ends in a
+        // few chunks, each of which allocates its own results, instead of 32.
+        let mut inline_len = chunk_len;
         loop {
             let chunk;
-            (chunk, rest) = rest.split_at(chunk_len.min(rest.len()));
+            (chunk, rest) = rest.split_at(inline_len.min(rest.len()));
+            inline_len = (2 * inline_len).min(MAX_CHUNK_LEN);
             run(chunk, &mut out);
             if rest.is_empty() {
                 return out;
@@ -98,17 +102,18 @@ pub(crate) fn chunks<T: Sync, R: Send>(
 /// balances the load, and at most 1024, so a chunk of the costliest items (exact triangle
 /// splits) ends within milliseconds of a cancellation.
 fn chunk_len(items: usize) -> usize {
-    (items / (32 * current_num_threads())).clamp(1, 1024)
+    (items / (32 * current_num_threads())).clamp(1, MAX_CHUNK_LEN)
 }
+
+/// The most items a chunk of [`chunks`] holds.
+const MAX_CHUNK_LEN: usize = 1024;
 
 #[cfg(feature = "parallel")]
 mod parallel {
     use std::cell::Cell;
 
     use rayon::iter::MinLen;
-    pub(crate) use rayon::prelude::{
-        IndexedParallelIterator, ParallelExtend, ParallelIterator, ParallelSliceMut,
-    };
+    pub(crate) use rayon::prelude::{IndexedParallelIterator, ParallelExtend, ParallelIterator};
 
     /// The work size, in input faces, from which a run is worth the thread pool: below it,
     /// [`on_pool_or_inline`] runs it on the calling thread. Measured on the peers harness's cases
@@ -204,6 +209,66 @@ mod parallel {
         } else {
             rayon::current_num_threads()
         }
+    }
+
+    /// The length from which a sort is worth rayon's: below it, and while this thread runs
+    /// inline, the standard library's sort of the same stability. rayon's sorts fall back to
+    /// their own sequential merge sort and quicksort below 2,000 items, which took about
+    /// twice the standard library's time on the few hundred contact marks of two unit cubes.
+    const PAR_SORT_FROM: usize = 4096;
+
+    /// rayon's sorts, on one thread for a short slice or while this thread runs inline.
+    pub(crate) trait ParallelSliceMut<T> {
+        fn par_sort_unstable(&mut self)
+        where
+            T: Ord;
+        fn par_sort_unstable_by<F>(&mut self, compare: F)
+        where
+            F: Fn(&T, &T) -> std::cmp::Ordering + Sync;
+        fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
+        fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
+    }
+
+    impl<T: Send> ParallelSliceMut<T> for [T] {
+        fn par_sort_unstable(&mut self)
+        where
+            T: Ord,
+        {
+            if sorts_inline(self.len()) {
+                self.sort_unstable();
+            } else {
+                rayon::slice::ParallelSliceMut::par_sort_unstable(self);
+            }
+        }
+        fn par_sort_unstable_by<F>(&mut self, compare: F)
+        where
+            F: Fn(&T, &T) -> std::cmp::Ordering + Sync,
+        {
+            if sorts_inline(self.len()) {
+                self.sort_unstable_by(compare);
+            } else {
+                rayon::slice::ParallelSliceMut::par_sort_unstable_by(self, compare);
+            }
+        }
+        fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F) {
+            if sorts_inline(self.len()) {
+                self.sort_unstable_by_key(key);
+            } else {
+                rayon::slice::ParallelSliceMut::par_sort_unstable_by_key(self, key);
+            }
+        }
+        fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F) {
+            if sorts_inline(self.len()) {
+                self.sort_by_key(key);
+            } else {
+                rayon::slice::ParallelSliceMut::par_sort_by_key(self, key);
+            }
+        }
+    }
+
+    /// Whether a sort of `len` items runs on this thread with the standard library's sort.
+    fn sorts_inline(len: usize) -> bool {
+        len < PAR_SORT_FROM || INLINE.get()
     }
 
     /// rayon's `into_par_iter`, held to one job while this thread runs inline.

@@ -200,7 +200,8 @@ pub fn orient2d_projected_if_clear(a: &Point, b: &Point, c: &Point, drop: Axis) 
 #[inline]
 fn orient2d_nearby(a: &Point, b: &Point, c: &Point, drop: Axis) -> Option<Sign> {
     let k = drop.index();
-    let [a, b, c] = [a, b, c].map(Point::nearby);
+    // Three calls rather than an array `map`, which copied the three through a temporary.
+    let (a, b, c) = (a.nearby(), b.nearby(), c.nearby());
     nearby::orient2d(&a, &b, &c, (k + 1) % 3, (k + 2) % 3)
 }
 

@@ -76,8 +76,13 @@ pub fn face_shape(positions: &[[f64; 3]], corners: &[u32]) -> FaceShape {
     }
 }
 
-/// Whether three points lie on one line (or coincide), decided exactly.
+/// Whether three points lie on one line (or coincide), decided exactly. A point with a
+/// non-finite coordinate is on no line: false, without a test, as the exact predicates take
+/// finite numbers (a report of a mesh with such a point then shows its volume as NaN).
 pub fn are_collinear(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
+    if ![a, b, c].as_flattened().iter().all(|x| x.is_finite()) {
+        return false;
+    }
     // The cross product's components are the orientations of the three axis projections.
     [(1, 2), (2, 0), (0, 1)].iter().all(|&(i, j)| {
         let project = |p: [f64; 3]| [p[i], p[j]];
@@ -237,6 +242,9 @@ mod tests {
             [3.4e-18, tiny, 0.0],
             [0.25, tiny, 0.0]
         ));
+        // Non-finite coordinates: on no line, even where the finite ones would be.
+        assert!(!are_collinear(a, b, [f64::NAN, 3.0, 3.0]));
+        assert!(!are_collinear(a, [f64::INFINITY; 3], [3.0; 3]));
     }
 
     #[test]
