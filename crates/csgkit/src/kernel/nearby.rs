@@ -138,10 +138,55 @@ pub(crate) fn orient2d(a: &Nearby, b: &Nearby, c: &Nearby, u: usize, v: usize) -
     }
 }
 
+/// [`orient3d`](super::orient3d) of input vertices `a, b, c` and a point `d` known to within
+/// its errors, where they allow telling it: the sign of `−((b − a) × (c − a)) · (d − a)`
+/// (positive below the plane, as `orient3d`). The differences from `a` and the normal carry
+/// first-order bounds as in [`orient2d`], each stage's bound [`covered`].
+#[inline]
+pub(crate) fn orient3d(a: Coords, b: Coords, c: Coords, d: &Nearby) -> Option<Sign> {
+    let u: Coords = std::array::from_fn(|k| b[k] - a[k]);
+    let v: Coords = std::array::from_fn(|k| c[k] - a[k]);
+    let hu = u.map(|x| EPS * x.abs());
+    let hv = v.map(|x| EPS * x.abs());
+    let w: Coords = std::array::from_fn(|k| d.at[k] - a[k]);
+    let hw: Coords = std::array::from_fn(|k| EPS * w[k].abs() + d.error[k]);
+    // The normal `u × v`, each component with a bound on its distance from the exact one.
+    let normal = |i: usize, j: usize| {
+        let (left, right) = (u[i] * v[j], u[j] * v[i]);
+        let n = left - right;
+        let bound = u[i].abs() * hv[j]
+            + v[j].abs() * hu[i]
+            + hu[i] * hv[j]
+            + u[j].abs() * hv[i]
+            + v[i].abs() * hu[j]
+            + hu[j] * hv[i]
+            + EPS * (left.abs() + right.abs() + n.abs());
+        (n, covered(bound))
+    };
+    let [(nx, hx), (ny, hy), (nz, hz)] = [normal(1, 2), normal(2, 0), normal(0, 1)];
+    let (n, hn) = ([nx, ny, nz], [hx, hy, hz]);
+    let products: Coords = std::array::from_fn(|k| n[k] * w[k]);
+    let det = products[0] + products[1] + products[2];
+    let mut bound = EPS * det.abs();
+    for k in 0..3 {
+        bound += n[k].abs() * hw[k] + w[k].abs() * hn[k] + hn[k] * hw[k];
+        bound += 2.0 * EPS * products[k].abs();
+    }
+    let bound = covered(bound);
+    if det > bound {
+        Some(Sign::Negative)
+    } else if -det > bound {
+        Some(Sign::Positive)
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::oracle::{Q, q};
+    use crate::kernel::oracle::{Q, q, q3, qcross, qdot, qsub};
+    use crate::kernel::tests::qsign;
     use num_traits::Signed;
 
     fn near(at: Coords, error: f64) -> Nearby {
@@ -157,7 +202,7 @@ mod tests {
     fn decisions_hold_for_every_point_within_the_errors() {
         let mut next = crate::kernel::tests::xorshift(0x6e65_6172_6279_0001);
         let mut unit = move || (next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-        let mut decided = 0;
+        let (mut decided, mut decided_3d) = (0, 0);
         for round in 0..20_000 {
             let scale = [1.0, 1e-8, 1e-150, 1e150][round % 4];
             let spread = [1e-7, 1e-12, 1e-15, 1.0][(round / 4) % 4];
@@ -197,6 +242,24 @@ mod tests {
                     }
                 }
             }
+            // `orient3d` of three of them taken as exact and a fourth within its errors: the
+            // determinant is affine in the fourth, so the corners of its box bound it.
+            let d = near(
+                std::array::from_fn(|k| base[k] + unit() * spread * scale),
+                error,
+            );
+            let [a, b, c] = pts.map(|p| p.at);
+            if let Some(sign) = orient3d(a, b, c, &d) {
+                decided_3d += 1;
+                let (qa, qb, qc) = (q3(&a), q3(&b), q3(&c));
+                for m in 0..8 {
+                    let s = |bit: usize| if m >> bit & 1 == 1 { 1.0 } else { -1.0 };
+                    let corner: [Q; 3] = std::array::from_fn(|k| q(d.at[k]) + q(s(k) * d.error[k]));
+                    let (ad, bd, cd) = (qsub(&qa, &corner), qsub(&qb, &corner), qsub(&qc, &corner));
+                    let det = qdot(&ad, &qcross(&bd, &cd));
+                    assert_eq!(qsign(&det), sign, "orient3d of {a:?} {b:?} {c:?} {d:?}");
+                }
+            }
             if let Some(order) = compare_coordinate(&pts[0], &pts[1], 0) {
                 for a in corners(&pts[0]) {
                     for b in corners(&pts[1]) {
@@ -208,6 +271,10 @@ mod tests {
         assert!(
             decided > 10_000,
             "the filter decided only {decided} of 20000"
+        );
+        assert!(
+            decided_3d > 5_000,
+            "orient3d decided only {decided_3d} of 20000"
         );
     }
 

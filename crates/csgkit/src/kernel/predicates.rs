@@ -9,7 +9,7 @@
 
 use std::cmp::Ordering;
 
-use super::cascade::{decide, decide_or_zero, filter};
+use super::cascade::{decide, decide_proof_first, filter};
 use super::formulas::{AxisDiff, Det3, Det4, PlaneSide};
 use super::implicit::{Point, Point3};
 use super::nearby;
@@ -44,10 +44,13 @@ pub fn orient3d_plane(a: Point3, b: Point3, c: Point3, d: &Point) -> Sign {
         let turn = orient2d(axis.project(a), axis.project(b), axis.project(c));
         return side_of_axis_plane(a[axis.index()], x, turn);
     }
+    if let Some(sign) = nearby::orient3d(a, b, c, &d.nearby()) {
+        return sign;
+    }
     // A crossing of an edge that lies in the plane (a face's own edge, met by a box turned
     // about it) is on the plane by its definition: two exact orientations of the edge's ends
-    // prove the zero at a fraction of the exact stages' cost, asked only where the filter
-    // cannot decide.
+    // prove the zero at a fraction of the exact stages' cost, asked only where the filter on
+    // the nearby coordinates cannot decide.
     let on_edge_in_plane = || match d {
         Point::Lpi(l) => {
             let (p, q, _) = l.definition();
@@ -55,7 +58,7 @@ pub fn orient3d_plane(a: Point3, b: Point3, c: Point3, d: &Point) -> Sign {
         }
         _ => false,
     };
-    decide_or_zero(&PlaneSide { tri: [a, b, c], d }, on_edge_in_plane).times(d.w_sign())
+    decide_proof_first(&PlaneSide { tri: [a, b, c], d }, on_edge_in_plane).times(d.w_sign())
 }
 
 /// [`orient3d`] with any mix of explicit and implicit points: which side of the plane through
@@ -122,7 +125,7 @@ pub fn orient2d_projected_or_collinear(
                     || on_a_projected_line(a, b, c, drop)
                     || collinear()
             };
-            decide_or_zero(&det, proven).times(w)
+            decide_proof_first(&det, proven).times(w)
         }
     }
 }
@@ -241,7 +244,7 @@ pub fn compare_along(a: &Point, b: &Point, axis: Axis) -> Ordering {
     }
     let w = a.w_sign().times(b.w_sign());
     let proven = || on_one_axis_parallel_line(a, b, axis);
-    decide_or_zero(&AxisDiff { a, b, axis: i }, proven)
+    decide_proof_first(&AxisDiff { a, b, axis: i }, proven)
         .times(w)
         .to_ordering()
 }

@@ -133,6 +133,11 @@ fn check_all(pts: &[Point]) -> usize {
         if let (Point::Explicit(ea), Point::Explicit(eb), Point::Explicit(ec)) = (a, b, c) {
             let what = || format!("orient3d_plane{}", desc(&[i, j, k, l]));
             assert_eq!(orient3d_plane(*ea, *eb, *ec, d), want, "{}", what());
+            // The filter on nearby coordinates on its own (`orient3d_plane` asks it only
+            // after its proofs by definition): it may abstain, never disagree.
+            if let Some(sign) = super::nearby::orient3d(*ea, *eb, *ec, &d.nearby()) {
+                assert_eq!(sign, want, "nearby {}", what());
+            }
             let f = PlaneSide {
                 tri: [*ea, *eb, *ec],
                 d,
@@ -586,6 +591,27 @@ fn one_ulp_off_the_plane_is_seen() {
             let cmp = q(b[axis]).cmp(&x[axis]);
             assert_eq!(compare_along(&e, &on, AXES[axis]), cmp);
         }
+    }
+}
+
+/// The filter on nearby coordinates decides an intersection point against planes a
+/// millionth to a trillionth from it, and agrees with the oracle there; on the point's own
+/// plane it abstains.
+#[test]
+fn nearby_orient3d_decides_points_close_to_a_plane() {
+    let (r, s, t) = ([0.1, 0.2, 0.3], [1.7, -0.4, 0.9], [-0.6, 1.3, 0.25]);
+    let on = Point::lpi([0.0, 0.0, -5.0], [0.3, 0.1, 5.0], r, s, t).expect("crosses");
+    assert_eq!(super::nearby::orient3d(r, s, t, &on.nearby()), None);
+    let x = oracle_point(&on);
+    for offset in [1e-6, 1e-9, 1e-12, -1e-6, -1e-9, -1e-12] {
+        // The plane moved along z by `offset`: the point is off it by about that much.
+        let lift = |p: Point3| [p[0], p[1], p[2] + offset];
+        let (r2, s2, t2) = (lift(r), lift(s), lift(t));
+        let want = oracle_orient3d(&q3(&r2), &q3(&s2), &q3(&t2), &x);
+        assert_ne!(want, Sign::Zero);
+        let sign = super::nearby::orient3d(r2, s2, t2, &on.nearby());
+        assert_eq!(sign, Some(want), "offset {offset:e}");
+        assert_eq!(orient3d_plane(r2, s2, t2, &on), want, "offset {offset:e}");
     }
 }
 
