@@ -59,36 +59,24 @@ pub(crate) trait Formula {
 /// The exact sign of a formula: filter first, then the exact stages.
 #[inline]
 pub(crate) fn decide(f: &impl Formula) -> Sign {
-    decide_or_zero(f, || false)
+    filter(f).unwrap_or_else(|| decide_exact(f))
 }
 
-/// [`decide`], asking `known_zero` between the filter and the exact stages: a structural
-/// proof that the value is zero (points on one line by construction), which the filter
-/// cannot give and the exact stages pay dearly for, and which costs nothing where the filter
-/// decides.
-#[inline]
-pub(crate) fn decide_or_zero(f: &impl Formula, known_zero: impl FnOnce() -> bool) -> Sign {
-    match filter(f) {
-        Some(s) => s,
-        None if known_zero() => Sign::Zero,
-        None => decide_exact(f),
-    }
-}
-
-/// [`decide_or_zero`] for a caller whose own filter on the points' nearby coordinates (see
-/// `nearby.rs`) has just failed: the proof of a zero first, then the interval filter. Where
-/// the nearby filter fails the value is most often exactly zero, and the interval filter
-/// (several times the cost of a proof) then rarely decides: on the peers harness's cases it
-/// decided 5 of the 430 projected orientations that reached it on two cubes turned by 1e-7
-/// rad (rotated_z_union, rotated_xyz_union), none of the 4,295 on sphere_sphere_1k_union and
-/// fertility ∪ cylinder (the proofs settled all of them), and none of the 112 coordinate
-/// comparisons on these four.
+/// [`decide`], asking `known_zero` first: a structural proof that the value is zero (points
+/// on one line or plane by construction), which the filter cannot give and the exact stages
+/// pay dearly for. For a caller whose own filter on the points' nearby coordinates (see
+/// `nearby.rs`) has just abstained: the value is then most often exactly zero, and the
+/// interval filter (several times the cost of a proof) rarely decides: on the peers
+/// harness's cases it decided 5 of the 430 projected orientations that reached it on two
+/// cubes turned by 1e-7 rad (rotated_z_union, rotated_xyz_union), none of the 4,295 on
+/// sphere_sphere_1k_union and fertility ∪ cylinder (the proofs settled all of them), and none
+/// of the 112 coordinate comparisons on these four.
 #[inline]
 pub(crate) fn decide_proof_first(f: &impl Formula, known_zero: impl FnOnce() -> bool) -> Sign {
     if known_zero() {
         return Sign::Zero;
     }
-    filter(f).unwrap_or_else(|| decide_exact(f))
+    decide(f)
 }
 
 /// Stage 1 of the cascade alone: the sign where the interval filter decides it, `None` where
