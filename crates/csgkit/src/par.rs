@@ -8,7 +8,9 @@
 //! `par_chunks`, `par_sort_*` and `par_extend` are their standard-library counterparts, and
 //! the few rayon adaptors the standard iterators lack by that name (`flat_map_iter`,
 //! `find_map_first`, `reduce_with`) are defined on every [`Iterator`]; everything else a
-//! chain calls (`map`, `zip`, `collect`, `sum`, …) is already [`Iterator`]'s.
+//! chain calls (`map`, `zip`, `collect`, `sum`, …) is already [`Iterator`]'s. The sorts
+//! are one trait for both builds ([`ParallelSliceMut`]); with `parallel` too, a short slice
+//! gets the standard library's sort.
 //!
 //! Results are the same in both builds: the crate's parallel stages already give results
 //! that do not depend on the thread count (they collect in item order or sort by stable
@@ -29,6 +31,20 @@ pub(crate) use parallel::*;
 
 #[cfg(not(feature = "parallel"))]
 pub(crate) use sequential::*;
+
+/// rayon's sorts by their names, one declaration for both builds: with `parallel`, rayon's
+/// own for `parallel::PAR_SORT_FROM` items or more on a thread that is not running inline,
+/// else the standard library's sorts of the same stability.
+pub(crate) trait ParallelSliceMut<T> {
+    fn par_sort_unstable(&mut self)
+    where
+        T: Ord;
+    fn par_sort_unstable_by<F>(&mut self, compare: F)
+    where
+        F: Fn(&T, &T) -> std::cmp::Ordering + Sync;
+    fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
+    fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
+}
 
 /// How long a loop of costly items in a run that runs inline goes on here before it judges
 /// whether the rest is worth the pool.
@@ -218,18 +234,7 @@ mod parallel {
     const PAR_SORT_FROM: usize = 4096;
 
     /// rayon's sorts, on one thread for a short slice or while this thread runs inline.
-    pub(crate) trait ParallelSliceMut<T> {
-        fn par_sort_unstable(&mut self)
-        where
-            T: Ord;
-        fn par_sort_unstable_by<F>(&mut self, compare: F)
-        where
-            F: Fn(&T, &T) -> std::cmp::Ordering + Sync;
-        fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
-        fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
-    }
-
-    impl<T: Send> ParallelSliceMut<T> for [T] {
+    impl<T: Send> super::ParallelSliceMut<T> for [T] {
         fn par_sort_unstable(&mut self)
         where
             T: Ord,
@@ -454,18 +459,7 @@ mod sequential {
     }
 
     /// rayon's sorts: the standard sorts of the same stability.
-    pub(crate) trait ParallelSliceMut<T> {
-        fn par_sort_unstable(&mut self)
-        where
-            T: Ord;
-        fn par_sort_unstable_by<F>(&mut self, compare: F)
-        where
-            F: FnMut(&T, &T) -> std::cmp::Ordering;
-        fn par_sort_unstable_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F);
-        fn par_sort_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F);
-    }
-
-    impl<T> ParallelSliceMut<T> for [T] {
+    impl<T> super::ParallelSliceMut<T> for [T] {
         fn par_sort_unstable(&mut self)
         where
             T: Ord,
@@ -474,14 +468,14 @@ mod sequential {
         }
         fn par_sort_unstable_by<F>(&mut self, compare: F)
         where
-            F: FnMut(&T, &T) -> std::cmp::Ordering,
+            F: Fn(&T, &T) -> std::cmp::Ordering + Sync,
         {
             self.sort_unstable_by(compare);
         }
-        fn par_sort_unstable_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F) {
+        fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F) {
             self.sort_unstable_by_key(key);
         }
-        fn par_sort_by_key<K: Ord, F: FnMut(&T) -> K>(&mut self, key: F) {
+        fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F) {
             self.sort_by_key(key);
         }
     }

@@ -105,6 +105,27 @@ pub(crate) fn compare_coordinate(a: &Nearby, b: &Nearby, k: usize) -> Option<std
     }
 }
 
+/// `x y − z w` of numbers each known to within its bound (`(x, hx)`: `|x − exact| ≤ hx`),
+/// and a bound on its distance from the exact value, before [`covered`].
+#[inline(always)]
+fn det2(
+    (x, hx): (f64, f64),
+    (y, hy): (f64, f64),
+    (z, hz): (f64, f64),
+    (w, hw): (f64, f64),
+) -> (f64, f64) {
+    let (left, right) = (x * y, z * w);
+    let det = left - right;
+    let bound = x.abs() * hy
+        + y.abs() * hx
+        + hx * hy
+        + z.abs() * hw
+        + w.abs() * hz
+        + hz * hw
+        + EPS * (left.abs() + right.abs() + det.abs());
+    (det, bound)
+}
+
 /// The sign of `(b_u − a_u)(c_v − a_v) − (b_v − a_v)(c_u − a_u)` for the exact points, where
 /// the errors allow telling it: `orient2d` of the points projected onto coordinates `u, v`.
 #[inline]
@@ -114,34 +135,16 @@ pub(crate) fn orient2d(a: &Nearby, b: &Nearby, c: &Nearby, u: usize, v: usize) -
         let d = p.at[k] - a.at[k];
         (d, EPS * d.abs() + p.error[k] + a.error[k])
     };
-    let (bu, hbu) = diff(b, u);
-    let (cv, hcv) = diff(c, v);
-    let (bv, hbv) = diff(b, v);
-    let (cu, hcu) = diff(c, u);
-    let left = bu * cv;
-    let right = bv * cu;
-    let det = left - right;
-    let bound = bu.abs() * hcv
-        + cv.abs() * hbu
-        + hbu * hcv
-        + bv.abs() * hcu
-        + cu.abs() * hbv
-        + hbv * hcu
-        + EPS * (left.abs() + right.abs() + det.abs());
-    let bound = covered(bound);
-    if det > bound {
-        Some(Sign::Positive)
-    } else if -det > bound {
-        Some(Sign::Negative)
-    } else {
-        None
-    }
+    let (det, bound) = det2(diff(b, u), diff(c, v), diff(b, v), diff(c, u));
+    sign_beyond(det, covered(bound))
 }
 
 /// [`orient3d`](super::orient3d) of input vertices `a, b, c` and a point `d` known to within
 /// its errors, where they allow telling it: the sign of `−((b − a) × (c − a)) · (d − a)`
 /// (positive below the plane, as `orient3d`). The differences from `a` and the normal carry
-/// first-order bounds as in [`orient2d`], each stage's bound [`covered`].
+/// bounds as in [`orient2d`]; the normal's bounds and the final one are each [`covered`],
+/// their sums of non-negative terms rounding at most 30 times (`30 u = 15 EPS`, within the
+/// `16 EPS` margin).
 #[inline]
 pub(crate) fn orient3d(a: Coords, b: Coords, c: Coords, d: &Nearby) -> Option<Sign> {
     let u: Coords = std::array::from_fn(|k| b[k] - a[k]);
@@ -152,15 +155,7 @@ pub(crate) fn orient3d(a: Coords, b: Coords, c: Coords, d: &Nearby) -> Option<Si
     let hw: Coords = std::array::from_fn(|k| EPS * w[k].abs() + d.error[k]);
     // The normal `u × v`, each component with a bound on its distance from the exact one.
     let normal = |i: usize, j: usize| {
-        let (left, right) = (u[i] * v[j], u[j] * v[i]);
-        let n = left - right;
-        let bound = u[i].abs() * hv[j]
-            + v[j].abs() * hu[i]
-            + hu[i] * hv[j]
-            + u[j].abs() * hv[i]
-            + v[i].abs() * hu[j]
-            + hu[j] * hv[i]
-            + EPS * (left.abs() + right.abs() + n.abs());
+        let (n, bound) = det2((u[i], hu[i]), (v[j], hv[j]), (u[j], hu[j]), (v[i], hv[i]));
         (n, covered(bound))
     };
     let [(nx, hx), (ny, hy), (nz, hz)] = [normal(1, 2), normal(2, 0), normal(0, 1)];
@@ -172,11 +167,17 @@ pub(crate) fn orient3d(a: Coords, b: Coords, c: Coords, d: &Nearby) -> Option<Si
         bound += n[k].abs() * hw[k] + w[k].abs() * hn[k] + hn[k] * hw[k];
         bound += 2.0 * EPS * products[k].abs();
     }
-    let bound = covered(bound);
-    if det > bound {
-        Some(Sign::Negative)
-    } else if -det > bound {
+    sign_beyond(-det, covered(bound))
+}
+
+/// The sign of `value` where its magnitude exceeds `bound`, `None` where it does not (or
+/// either is NaN).
+#[inline(always)]
+fn sign_beyond(value: f64, bound: f64) -> Option<Sign> {
+    if value > bound {
         Some(Sign::Positive)
+    } else if -value > bound {
+        Some(Sign::Negative)
     } else {
         None
     }
