@@ -224,7 +224,12 @@ impl IndexedTriangle {
         Triangle {
             id,
             vertices: self.vertices,
-            positions: self.vertices.map(|v| positions[v as usize]),
+            // Element by element: an array `map` went through a temporary.
+            positions: [
+                positions[self.vertices[0] as usize],
+                positions[self.vertices[1] as usize],
+                positions[self.vertices[2] as usize],
+            ],
             drop: self.drop,
             turn: self.turn,
         }
@@ -510,7 +515,7 @@ fn first_axis(p: &Point, q: &Point) -> Option<(Axis, Ordering)> {
 fn on_chord(
     lo: Ordering,
     hi: impl FnOnce() -> Ordering,
-    c: &[End; 2],
+    c: &[&End; 2],
     t_chord_inside: Feature,
 ) -> Option<(Feature, Option<usize>)> {
     if lo == Ordering::Equal {
@@ -523,8 +528,18 @@ fn on_chord(
     }
 }
 
+/// A chord's ends by reference, the first first along the axis given their `order` there: a
+/// swap would move two kernel points of a few hundred bytes each.
+fn in_order(c: &[End; 2], order: Ordering) -> [&End; 2] {
+    if order == Ordering::Greater {
+        [&c[1], &c[0]]
+    } else {
+        [&c[0], &c[1]]
+    }
+}
+
 /// The feature of the inside of a chord: the edge between two vertex ends, else the face.
-fn chord_inside(c: &[End; 2]) -> Feature {
+fn chord_inside(c: &[&End; 2]) -> Feature {
     match (c[0].own, c[1].own) {
         (Boundary::Vertex(i), Boundary::Vertex(j)) if i != j => {
             Feature::Edge(if (i + 1) % 3 == j { i } else { j })
@@ -561,42 +576,36 @@ fn transversal(a: &Triangle, b: &Triangle, sa: &[Sign; 3], sb: &[Sign; 3]) -> In
         (None, None) => Ordering::Equal,
         (Some(_), _) => compare_along(&cb[0].point, &cb[1].point, axis),
     };
-    let (mut ca, mut cb) = (ca, cb);
-    if order_a == Ordering::Greater {
-        ca.swap(0, 1);
-    }
-    if order_b == Ordering::Greater {
-        cb.swap(0, 1);
-    }
-    let inside = (chord_inside(&ca), chord_inside(&cb));
+    let (ca, cb) = (&in_order(&ca, order_a), &in_order(&cb, order_b));
+    let inside = (chord_inside(ca), chord_inside(cb));
     // The overlap of the chords: the later start and the earlier end, from `a` when tied.
     let cmp = |x: &End, y: &End| compare_along(&x.point, &y.point, axis);
-    let starts = cmp(&ca[0], &cb[0]);
-    let stops = cmp(&ca[1], &cb[1]);
+    let starts = cmp(ca[0], cb[0]);
+    let stops = cmp(ca[1], cb[1]);
     let (lo_from_a, hi_from_a) = (starts != Ordering::Less, stops != Ordering::Greater);
     let end_contact = |from_a: bool, k: usize| {
         if from_a {
             // `a`'s end `k` against `b`'s chord.
-            let lo = if k == 0 { starts } else { cmp(&ca[1], &cb[0]) };
-            let hi = || if k == 1 { stops } else { cmp(&ca[0], &cb[1]) };
-            let (f, end) = on_chord(lo, hi, &cb, inside.1)?;
-            Some(merged(a, &ca[k], b, f, end.map(|e| &cb[e].point)))
+            let lo = if k == 0 { starts } else { cmp(ca[1], cb[0]) };
+            let hi = || if k == 1 { stops } else { cmp(ca[0], cb[1]) };
+            let (f, end) = on_chord(lo, hi, cb, inside.1)?;
+            Some(merged(a, ca[k], b, f, end.map(|e| &cb[e].point)))
         } else {
             // `b`'s end `k` against `a`'s chord.
             let lo = if k == 0 {
                 starts.reverse()
             } else {
-                cmp(&cb[1], &ca[0])
+                cmp(cb[1], ca[0])
             };
             let hi = || {
                 if k == 1 {
                     stops.reverse()
                 } else {
-                    cmp(&cb[0], &ca[1])
+                    cmp(cb[0], ca[1])
                 }
             };
-            let (f, end) = on_chord(lo, hi, &ca, inside.0)?;
-            Some(swapped(merged(b, &cb[k], a, f, end.map(|e| &ca[e].point))))
+            let (f, end) = on_chord(lo, hi, ca, inside.0)?;
+            Some(swapped(merged(b, cb[k], a, f, end.map(|e| &ca[e].point))))
         }
     };
     let (Some(lo), Some(hi)) = (end_contact(lo_from_a, 0), end_contact(hi_from_a, 1)) else {
