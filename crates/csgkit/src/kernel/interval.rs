@@ -176,16 +176,18 @@ impl Tracked {
 
     #[inline]
     pub(crate) fn add(&self, o: &Self) -> Self {
-        let value = self.value + o.value;
-        Tracked {
-            value,
-            error: self.error + o.error + ROUNDING * value.abs(),
-        }
+        self.sum_with(o, self.value + o.value)
     }
 
     #[inline]
     pub(crate) fn sub(&self, o: &Self) -> Self {
-        let value = self.value - o.value;
+        self.sum_with(o, self.value - o.value)
+    }
+
+    /// The sum or difference of `self` and `o` computed as `value`: the operands' errors and
+    /// one rounding of the result.
+    #[inline]
+    fn sum_with(&self, o: &Self, value: f64) -> Self {
         Tracked {
             value,
             error: self.error + o.error + ROUNDING * value.abs(),
