@@ -314,6 +314,7 @@ fn stats_json(
         "snapped_vertices": s.snapped_vertices,
         "dissolved_slivers": s.dissolved_slivers,
         "removed_sheets": s.removed_sheets,
+        "removed_shells": s.removed_shells,
         "max_snap_displacement": s.max_snap_displacement,
         "certify_rounds": s.certify_rounds,
         "output_vertices": result.mesh.vertex_count(),

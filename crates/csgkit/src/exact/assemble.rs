@@ -1,11 +1,27 @@
 //! The **assemble** stage (`design/exact.md`, stage 8): the output mesh.
 //!
-//! Vertices the kept sub-triangles use keep their relative order (input vertices first); an intersection
-//! point is rounded to the nearest f64 here, once (exact big-integer division), and every
-//! coordinate is scaled back by the inverse of the ingest power of two (exact). Each face
-//! records its provenance: the operand and the original face it lies on.
+//! Vertices the kept sub-triangles use keep their relative order (input vertices first); an
+//! intersection point is rounded to f64 here, once, and every coordinate is scaled back by the
+//! inverse of the ingest power of two (exact). Each face records its provenance: the operand
+//! and the original face it lies on.
 //!
-//! Rounding moves intersection points by up to half an ulp, which in near-degenerate
+//! # Rounding inward
+//! An intersection point lies on the planes of the input triangles its faces come from (at
+//! least one of each operand whose surfaces meet there), and is rounded to a corner of the
+//! f64 grid cell around it (each coordinate within an ulp) that lies on or behind every one of
+//! those planes, in the closed inside of each operand's surface there: the nearest f64 point
+//! when it does, else the corner with the fewest coordinates moved off it. A chain of booleans
+//! through files meets these vertices again: `(A ∪ B) − B`, `(A − B) ∪ B` and
+//! `(A ∩ B) − B` put B's faces back against the result's pieces of them, which are B's
+//! triangles with rounded corners. A corner rounded in front of B's plane leaves a slab
+//! between the piece and B's face, thinner than an ulp and as wide as the piece, that the
+//! exact engine keeps (it is there) and no f64 rounding of its own corners can write
+//! without folding; a corner on or behind it puts the piece inside closed B, where the next
+//! boolean removes it whole or keeps B's face instead. Coordinates an f64 holds exactly (a
+//! crossing on an axis plane) stay exact. Where no corner is behind every plane (near a
+//! reflex edge, or three surfaces meeting), the nearest point is taken.
+//!
+//! Rounding moves intersection points by up to an ulp, which in near-degenerate
 //! configurations makes two output faces cross or a face collapse; the [`certify`] stage
 //! finds and repairs those, starting from the vertices this stage marks as moved.
 //!
@@ -13,7 +29,9 @@
 
 use crate::par::*;
 
-use crate::kernel::round_point;
+use crate::kernel::{
+    Axis, Point, Point3, Sign, compare_along, next_down, next_up, orient3d, round_point,
+};
 use crate::mesh::{Mesh, MeshParts};
 
 use super::ingest::Input;
@@ -50,8 +68,32 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
     }
     let explicit_count = input.positions.len() as u32;
     let unscale = 1.0 / input.scale;
-    let positions: Vec<[f64; 3]> = (used.par_iter())
-        .map(|&v| round_point(&arr.point(input, v)).map(|x| x * unscale))
+    // (output vertex, input triangle) for every intersection point and the source triangle of
+    // each face around it, sorted by vertex.
+    let ids = &new_id;
+    let mut planes: Vec<(u32, u32)> = (faces.triangles.par_iter().zip(&faces.source))
+        .flat_map_iter(|(t, &source)| {
+            (t.iter())
+                .filter(|&&v| v >= explicit_count)
+                .map(move |&v| (ids[v as usize], source))
+        })
+        .collect();
+    planes.par_sort_unstable();
+    planes.dedup();
+    let positions: Vec<[f64; 3]> = (used.par_iter().enumerate())
+        .map(|(i, &v)| {
+            let point = arr.point(input, v);
+            let i = i as u32;
+            let around = &planes
+                [planes.partition_point(|&(w, _)| w < i)..planes.partition_point(|&(w, _)| w <= i)];
+            let behind = |q: Point3| {
+                around.iter().all(|&(_, t)| {
+                    let [a, b, c] = input.triangle(t as usize).positions();
+                    orient3d(a, b, c, q) != Sign::Negative
+                })
+            };
+            round_inward(&point, behind).map(|x| x * unscale)
+        })
         .collect();
     // An intersection point the split stage simplified to an explicit one is exact.
     let moved: Vec<bool> = (used.par_iter())
@@ -73,4 +115,51 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
         moved,
         rounded,
     }
+}
+
+/// `point` rounded to f64: the nearest point if `behind` accepts it, else the first corner of
+/// the f64 grid cell around `point` that `behind` accepts (fewest coordinates moved off the
+/// nearest first), else the nearest (see the module docs). Each coordinate ends within an ulp
+/// of the exact one, and one an f64 holds is kept.
+fn round_inward(point: &Point, behind: impl Fn(Point3) -> bool) -> Point3 {
+    let nearest = round_point(point);
+    if point.is_explicit() || behind(nearest) {
+        return nearest;
+    }
+    // The other end of the cell in each coordinate, where the exact one is not an f64, unless
+    // it is newly subnormal: a step from 0 to ±5e-324 changes no shape a reader can see, and
+    // readers whose predicates underflow there (Shewchuk's) take the faces around for flat.
+    let at_nearest = Point::Explicit(nearest);
+    let other = [Axis::X, Axis::Y, Axis::Z].map(|axis| {
+        let k = axis.index();
+        let other = match compare_along(point, &at_nearest, axis) {
+            std::cmp::Ordering::Less => next_down(nearest[k]),
+            std::cmp::Ordering::Greater => next_up(nearest[k]),
+            std::cmp::Ordering::Equal => return None,
+        };
+        (!other.is_subnormal() || nearest[k].is_subnormal()).then_some(other)
+    });
+    // The cell's corners other than the nearest, one coordinate moved first, then two, then
+    // three.
+    const CORNERS: [[bool; 3]; 7] = [
+        [true, false, false],
+        [false, true, false],
+        [false, false, true],
+        [true, true, false],
+        [true, false, true],
+        [false, true, true],
+        [true, true, true],
+    ];
+    (CORNERS.iter())
+        .filter_map(|moved| {
+            let mut corner = nearest;
+            for k in 0..3 {
+                if moved[k] {
+                    corner[k] = other[k]?;
+                }
+            }
+            Some(corner)
+        })
+        .find(|&corner| behind(corner))
+        .unwrap_or(nearest)
 }

@@ -99,6 +99,9 @@ pub struct BooleanStats {
     /// Pairs of opposite faces over the same three vertices that certification removed (a
     /// sliver between two surfaces that rounded flat into a two-sided sheet).
     pub removed_sheets: usize,
+    /// Closed shells thinner on average than a few ulps that certification removed whole (a
+    /// slab between two surfaces an ulp apart, such as `(A − B) ∩ B` through a file).
+    pub removed_shells: usize,
     /// The largest distance certification moved the surface (a re-rounded or snapped vertex,
     /// a collapsed side, a flipped needle), relative to the diagonal of the result's bounding
     /// box.
@@ -292,6 +295,7 @@ fn run_expression(
     stats.certify_rounds = certificate.rounds;
     stats.dissolved_slivers = certificate.dissolved_slivers;
     stats.removed_sheets = certificate.removed_sheets;
+    stats.removed_shells = certificate.removed_shells;
     stats.output_triangles = mesh.face_count();
     clock.record(Stage::Certify);
     let mut mesh = crate::mesh::merge_faces(mesh, options.faces, operands);

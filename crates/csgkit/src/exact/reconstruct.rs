@@ -66,6 +66,8 @@ pub(crate) struct Reconstructed {
     pub triangles: Vec<[u32; 3]>,
     /// Per triangle: the provenance of the face it belongs to.
     pub provenance: Vec<Provenance>,
+    /// Per triangle: the input triangle it lies in (whose plane assemble rounds against).
+    pub source: Vec<u32>,
     /// Intersection points removed.
     pub removed_vertices: usize,
 }
@@ -141,6 +143,7 @@ pub(crate) fn reconstruct(
     Reconstructed {
         triangles: out_triangles,
         provenance,
+        source: out_source,
         removed_vertices,
     }
 }

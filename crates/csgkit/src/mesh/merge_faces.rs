@@ -10,9 +10,11 @@
 //!   of the input's triangles of one provenance and that the fan from its first corner
 //!   triangulates (so readers that fan polygons, as many do, read it right); a region with
 //!   holes, or that no corner sees whole, is cut into few such pieces along existing
-//!   triangle sides; a piece that the one triangulator
-//!   ([`triangulate_faces`](super::triangulate_faces)) would reject in the polygon's own
-//!   projection (corners an ulp apart can turn a side there) stays as its triangles;
+//!   triangle sides; a piece stays as its triangles unless the one triangulator
+//!   ([`triangulate_faces`](super::triangulate_faces)), which readers of the written face
+//!   apply, gives back its triangles or the piece is exactly flat (corners an ulp apart can
+//!   turn a side in the polygon's own projection, and other diagonals of a polygon flat only
+//!   to its corners' rounding can cross a neighbour);
 //! - [`FaceMode::Quads`]: triangles and strictly convex quads, each quad two triangles of one
 //!   provenance, written from a corner of the side they share, so that the fan from its first
 //!   corner gives back those two triangles.
@@ -30,8 +32,9 @@
 //! projected along the dominant axis of the first triangle's or the region's normal).
 //! Because every face is a union of the input's triangles, the input's triangulation, which
 //! the engine certified, is one triangulation of each face without new vertices; the fan from
-//! the first corner is another, valid in the face's projection (a face is flat only to the
-//! rounding of its corners, so a consumer that needs the certified one asks for triangles).
+//! the first corner is another, valid in the face's projection, and what the one triangulator
+//! reads is the certified one or lies in one plane with it, so a written polygon is read as a
+//! surface the engine certified.
 //!
 //! # Algorithm
 //! A provenance with one triangle is that triangle (counted per source face, so nearly all
@@ -55,10 +58,10 @@
 use crate::par::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use crate::kernel::{Axis, Sign, orient2d};
+use crate::kernel::{Axis, Sign, orient2d, orient3d};
 
 use super::numbering::FaceNumbering;
-use super::triangulate::is_valid_polygon;
+use super::triangulate::polygon_triangles;
 use super::vector::triangle_normal;
 use super::{Mesh, MeshParts, Provenance};
 
@@ -333,12 +336,7 @@ impl Region {
                 if let Some(at) = apex.and_then(|a| polygon.iter().position(|&v| v == a)) {
                     polygon.rotate_left(at);
                 }
-                if polygon.len() > 3 && !is_valid_polygon(positions, &polygon) {
-                    // Valid in the region's projection, where the pieces are grown, but not
-                    // in the polygon's own (its Newell normal's), where readers triangulate
-                    // it: corners an ulp apart, from intersection points that rounded to
-                    // neighbours, can turn a side the other way there. Its triangles, which
-                    // the engine certified, are written instead.
+                if polygon.len() > 3 && !self.reads_as_certified(positions, &piece, &polygon) {
                     return (piece.iter())
                         .map(|&i| (self.faces[i as usize], self.triangles[i as usize].to_vec()))
                         .collect();
@@ -347,6 +345,36 @@ impl Region {
                 vec![(first.expect("a piece has a triangle"), polygon)]
             })
             .collect()
+    }
+
+    /// Whether a reader that triangulates `polygon` (the boundary of `piece`) with the one
+    /// triangulator gets a surface the engine certified: the piece's own triangles, or any
+    /// triangles when every corner lies exactly in one plane (they tile the same flat
+    /// region). Otherwise its triangles are written instead. A piece is valid in the region's
+    /// projection, where it is grown, but a polygon of rounded corners is flat only to an
+    /// ulp: in its own projection (its Newell normal's) corners an ulp apart can turn a side
+    /// the other way, so the triangulator rejects it, and from six corners on it is cut
+    /// along other diagonals (a strip), whose triangles, tilted by the corners' rounding,
+    /// can cross a neighbour's.
+    fn reads_as_certified(&self, positions: &[[f64; 3]], piece: &[u32], polygon: &[u32]) -> bool {
+        let Some(mut read) = polygon_triangles(positions, polygon) else {
+            return false;
+        };
+        let mut certified: Vec<[u32; 3]> = (piece.iter())
+            .map(|&i| self.triangles[i as usize])
+            .collect();
+        for triangles in [&mut read, &mut certified] {
+            for t in triangles.iter_mut() {
+                let first = (0..3).min_by_key(|&k| t[k]).expect("three corners");
+                t.rotate_left(first);
+            }
+            triangles.sort_unstable();
+        }
+        if read == certified {
+            return true;
+        }
+        let [a, b, c] = certified[0].map(|v| positions[v as usize]);
+        (polygon.iter()).all(|&v| orient3d(a, b, c, positions[v as usize]) == Sign::Zero)
     }
 
     /// The source polygon, in its own order from its own first corner, when the region is

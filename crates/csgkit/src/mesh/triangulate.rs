@@ -337,12 +337,13 @@ pub fn triangulate_faces_partial(mesh: &Mesh) -> (Triangulation<'_>, Vec<Polygon
     (Triangulation { repr }, errors)
 }
 
-/// Whether the polygon `corners` is one this triangulator takes: the test a reader of the
-/// written face applies (`csgkit check` among them), for a writer that must not write a face
-/// it rejects.
-pub(crate) fn is_valid_polygon(positions: &[[f64; 3]], corners: &[u32]) -> bool {
+/// The triangles this triangulator makes of the polygon `corners`, or `None` where it rejects
+/// it: what a reader of the written face gets (`csgkit check` and csgkit's own operands
+/// among them), for a writer that must not write a face it rejects or reads otherwise.
+pub(crate) fn polygon_triangles(positions: &[[f64; 3]], corners: &[u32]) -> Option<Vec<[u32; 3]>> {
     let mut scratch = Polygons::with_capacity(corners.len().saturating_sub(2));
-    triangulate_face(positions, corners, FaceId::new(0), &mut scratch).is_ok()
+    triangulate_face(positions, corners, FaceId::new(0), &mut scratch).ok()?;
+    Some(scratch.triangles)
 }
 
 /// Appends the triangles of one face (steps 1–5); on error, appends nothing.

@@ -10,14 +10,15 @@
 //! - with no exactly degenerate face and no two vertices at one position;
 //! - closed and consistently oriented.
 //!
-//! Every vertex ends near where the exact result has it: rounding moves it by at most half an
-//! ulp per coordinate, re-rounding by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at
+//! Every vertex ends near where the exact result has it: rounding moves it by at most an ulp
+//! per coordinate, re-rounding by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at
 //! most half a grid step per level, the steps doubling up to `2^MAX_SNAP_LEVEL` ulps of the
 //! largest coordinate magnitude `M`) by at most `2^MAX_SNAP_LEVEL` ulps of `M` in all: every
 //! coordinate stays within `2^-27 · M` of the exact result. Removing a sliver moves the
 //! surface by less than the tolerance it was found with, at most `2^MAX_SNAP_LEVEL` ulps of
-//! `M`. If that is not enough, the stage
-//! fails with [`CertifyError::NotCertified`] rather than return an invalid mesh.
+//! `M`; a removed thin shell bounds less than its area times `2^THIN_SHELL_LEVEL` ulps of `M`.
+//! If that is not enough, the stage fails with [`CertifyError::NotCertified`] rather than
+//! return an invalid mesh.
 //!
 //! # Algorithm
 //! Iterative snap rounding, after Lazard & Valque, "Iterative snap rounding of triangle soups"
@@ -32,7 +33,8 @@
 //!    sheet, which the pair test does not see: it ignores faces with the same corners).
 //! 2. **Done** if there is none. Coincident vertices are merged and sheets removed (both
 //!    faces: the sheet bounds no volume, and every edge stays balanced) before anything
-//!    else is tried.
+//!    else is tried, then closed shells with a problem that are thinner on average than a few
+//!    ulps (`thin_shells`), whole.
 //! 3. **Re-round** (`reround`): move a vertex of a problem face to an f64 point at most a few
 //!    ulps away where its faces have no problem with the faces around them (rounded points
 //!    first, then any vertex); most folds are a sliver corner rounded across the opposite
@@ -134,6 +136,11 @@ pub(crate) const MAX_SNAP_LEVEL: i32 = 24;
 /// first, up to the coarsest snap grid.
 const SLIVER_LEVELS: [i32; 4] = [2, 10, 18, MAX_SNAP_LEVEL];
 
+/// The mean thickness below which a shell with a problem is removed whole, in ulps of the
+/// largest coordinate magnitude (as `log2`): the first tolerance of sliver removal, a few
+/// ulps, above the error of the f64 volume it is measured by.
+const THIN_SHELL_LEVEL: i32 = SLIVER_LEVELS[0];
+
 /// What certification did, for the statistics.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Certificate {
@@ -151,6 +158,8 @@ pub(crate) struct Certificate {
     pub dissolved_slivers: usize,
     /// Pairs of opposite faces over the same vertices (slivers that rounded flat) removed.
     pub removed_sheets: usize,
+    /// Closed shells thinner than the f64 grid removed whole.
+    pub removed_shells: usize,
 }
 
 /// What is wrong with a rounded mesh.
@@ -272,6 +281,17 @@ fn certify_rounds(
             // The sheet bounds no volume: both faces go, and every edge stays balanced.
             certificate.removed_sheets += problems.sheets.len();
             mesh = remove_faces(mesh, problems.sheets.iter().flatten());
+            continue;
+        }
+        // A shell thinner than the f64 grid folds whatever its rounding: it goes whole.
+        let (shells, faces) = thin_shells(
+            &mesh,
+            &problems.to_snap,
+            grid_step(mesh.positions(), THIN_SHELL_LEVEL),
+        );
+        if shells > 0 {
+            certificate.removed_shells += shells;
+            mesh = remove_faces(mesh, &faces);
             continue;
         }
         // Each successful re-rounding clears the faces of one vertex and breaks none, so
@@ -766,6 +786,56 @@ fn merge_coincident(mesh: Mesh, moved: &[bool]) -> (Mesh, Vec<bool>) {
         .map(|(f, _)| f as u32)
         .collect();
     (remove_faces(welded, &collapsed), merged_moved)
+}
+
+/// The closed shells (faces joined by shared vertices) that hold one of `vertices` (sorted)
+/// and are thinner on average than `tolerance`: twice their volume, over their area, below
+/// it. How many, and their faces.
+///
+/// Such a shell is a slab between two surfaces less than an ulp apart, as the exact result of
+/// `(A − B) ∩ B` through a file is: the pieces of B's faces that A − B wrote with corners
+/// rounded into B, against B's own faces. Its two sides are too close for any f64 corners to
+/// keep them apart, and it bounds almost no volume: removing it whole keeps every other shell
+/// closed and changes the volume by less than its area times the tolerance. Both sums run
+/// from a vertex of the shell, so their rounding error is relative to the shell's size.
+fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32>) {
+    use crate::mesh::union_find::UnionFind;
+    use crate::mesh::vector::{cross, dot, norm, sub};
+    let corners = mesh.corners();
+    let positions = mesh.positions();
+    let mut sets = UnionFind::new(positions.len());
+    for c in corners.chunks_exact(3) {
+        sets.union(c[0], c[1]);
+        sets.union(c[0], c[2]);
+    }
+    // Per shell with a problem, by its root: six times its volume and twice its area.
+    let mut measures: FxHashMap<u32, (f64, f64)> = (vertices.iter())
+        .map(|&v| (sets.find(v), (0.0, 0.0)))
+        .collect();
+    let mut shell_of = vec![u32::MAX; corners.len() / 3];
+    for (f, c) in corners.chunks_exact(3).enumerate() {
+        let root = sets.find(c[0]);
+        if let Some((six_volume, twice_area)) = measures.get_mut(&root) {
+            let origin = positions[root as usize];
+            let [a, b, c] = [c[0], c[1], c[2]].map(|v| sub(positions[v as usize], origin));
+            *six_volume += dot(a, cross(b, c));
+            *twice_area += norm(cross(sub(b, a), sub(c, a)));
+            shell_of[f] = root;
+        }
+    }
+    // Mean thickness 2 V / A = (2 / 3) · six_volume / twice_area.
+    let mut thin = vec![false; positions.len()];
+    let mut shells = 0;
+    for (&root, &(six_volume, twice_area)) in &measures {
+        if (2.0 * six_volume).abs() < 3.0 * twice_area * tolerance {
+            thin[root as usize] = true;
+            shells += 1;
+        }
+    }
+    let faces = (0..shell_of.len() as u32)
+        .filter(|&f| shell_of[f as usize] != u32::MAX && thin[shell_of[f as usize] as usize])
+        .collect();
+    (shells, faces)
 }
 
 /// The mesh without `faces`, keeping every vertex (the next check looks only at faces).
