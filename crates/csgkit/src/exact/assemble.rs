@@ -163,3 +163,55 @@ fn round_inward(point: &Point, behind: impl Fn(Point3) -> bool) -> Point3 {
         .find(|&corner| behind(corner))
         .unwrap_or(nearest)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The point where the line from `p` to `q` meets the plane of `plane`.
+    fn crossing(p: Point3, q: Point3, plane: [Point3; 3]) -> Point {
+        Point::lpi(p, q, plane[0], plane[1], plane[2]).expect("the line crosses the plane")
+    }
+
+    #[test]
+    fn a_point_rounds_behind_its_planes_within_its_cell() {
+        // A tilted plane, and lines across it at many places: whichever way the nearest f64
+        // point falls, the rounding is on or behind the plane and within an ulp.
+        let plane = [[0.0, 0.0, 0.1], [1.0, 0.1, 0.3], [0.2, 1.0, 0.7]];
+        let behind = |q: Point3| orient3d(plane[0], plane[1], plane[2], q) != Sign::Negative;
+        let mut nearest_in_front = 0;
+        for i in 0..200 {
+            let t = f64::from(i) / 200.0;
+            let point = crossing([t, 0.3 * t, -1.0], [0.7 - t, t, 2.0], plane);
+            let nearest = round_point(&point);
+            nearest_in_front += usize::from(!behind(nearest));
+            let rounded = round_inward(&point, behind);
+            assert!(behind(rounded), "{rounded:?} is in front of the plane");
+            for k in 0..3 {
+                let step =
+                    (next_up(nearest[k]) - nearest[k]).max(nearest[k] - next_down(nearest[k]));
+                assert!(
+                    (rounded[k] - nearest[k]).abs() <= step,
+                    "{rounded:?} vs {nearest:?}"
+                );
+            }
+        }
+        assert!(
+            nearest_in_front > 10,
+            "the nearest point falls in front often: {nearest_in_front}"
+        );
+    }
+
+    #[test]
+    fn coordinates_an_f64_holds_stay() {
+        // An axis plane: every crossing keeps z = 0.5 exactly, whatever `behind` asks.
+        let plane = [[0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [0.0, 1.0, 0.5]];
+        let point = crossing([0.1, 0.2, 0.0], [0.4, 0.7, 1.3], plane);
+        let rounded = round_inward(&point, |q| q[0] > 1.0);
+        assert_eq!(rounded, round_point(&point));
+        assert_eq!(rounded[2], 0.5);
+        let moved = round_inward(&point, |q| q != round_point(&point));
+        assert_eq!(moved[2], 0.5);
+        assert_ne!(moved, round_point(&point));
+    }
+}

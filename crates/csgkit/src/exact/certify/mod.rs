@@ -943,6 +943,35 @@ mod tests {
         crate::primitives::cuboid([min; 3], [max; 3])
     }
 
+    /// A box 2 long and wide and `height` high, its corners from vertex `first` on.
+    fn flat_box(height: f64, first: u32) -> (Vec<Point3>, Vec<u32>) {
+        let cuboid = crate::primitives::cuboid([0.0, 0.0, 4.0], [2.0, 2.0, 4.0 + height]);
+        let corners = cuboid.corners().iter().map(|&v| v + first).collect();
+        (cuboid.positions().to_vec(), corners)
+    }
+
+    #[test]
+    fn only_shells_thinner_than_the_tolerance_go() {
+        let tolerance = grid_step(&[[4.0; 3]], THIN_SHELL_LEVEL);
+        let (mut positions, mut corners) = flat_box(tolerance / 4.0, 0);
+        let (thick_positions, thick_corners) = flat_box(4.0 * tolerance, 8);
+        positions.extend(thick_positions);
+        corners.extend(thick_corners);
+        let faces = corners.len() / 3;
+        let mesh = Mesh::from_parts(MeshParts {
+            positions,
+            corners,
+            ..MeshParts::default()
+        })
+        .unwrap();
+        // A problem in each shell: only the thin one goes, all twelve of its faces.
+        let (shells, gone) = thin_shells(&mesh, &[0, 8], tolerance);
+        assert_eq!((shells, gone), (1, (0..12).collect::<Vec<u32>>()));
+        // Without a problem in it, a thin shell stays.
+        assert_eq!(thin_shells(&mesh, &[8], tolerance), (0, vec![]));
+        assert_eq!(faces, 24);
+    }
+
     #[test]
     fn exact_meshes_have_no_problem() {
         let mesh = cube(0.0, 1.0);
