@@ -26,10 +26,11 @@ use Operation::{Difference, Intersection, Union};
 
 /// Relative tolerance of volume comparisons, of |vol(A)| + |vol(B)|.
 ///
-/// Decisions are exact; only the output rounds, each implicit point once to the nearest f64
-/// (half an ulp, about 1.1e-16 · L for coordinates of magnitude L ≤ 10 here). That moves a
-/// result's volume by at most about 1e-16 · L · S for surface area S, plus a few ulps of
-/// summation in the measure: below 1e-13 of the operand volumes for these solids (L · S / V
+/// Decisions are exact; only the output rounds, each implicit point once to an f64 within
+/// 2.5 ulps (the nearest, or one nearby inside the operands), about 5.6e-16 · L for
+/// coordinates of magnitude L ≤ 10 here. That moves a result's volume by at most about
+/// 6e-16 · L · S for surface area S, plus a few ulps of summation in the measure: below 1e-12
+/// of the operand volumes for these solids (L · S / V
 /// is small for convex shapes of comparable size). A rigid motion rounds the input vertices
 /// once more, by the same bound. 1e-9 leaves a wide margin yet catches any misclassified patch.
 const VOLUME_TOLERANCE: f64 = 1e-9;

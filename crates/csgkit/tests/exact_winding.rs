@@ -38,8 +38,8 @@ use Operation::{Difference, Intersection, Union, Xor};
 
 /// Relative tolerance of volume comparisons.
 ///
-/// Decisions are exact; the output rounds each intersection point once to the nearest f64
-/// (half an ulp) and the certify stage may snap a vertex by at most 2^-28 of the bounding-box
+/// Decisions are exact; the output rounds each intersection point once to an f64 within 2.5
+/// ulps and the certify stage may snap a vertex by at most 2^-28 of the bounding-box
 /// diagonal (it almost never does). For the solids here that moves volumes by far less than
 /// 1e-9 of the operands' volumes, while a misclassified patch or a lost shell moves them by
 /// much more; exact_real.rs derives the same bound for real meshes.

@@ -7,23 +7,24 @@
 //!
 //! # Rounding inward
 //! An intersection point lies on the planes of the input triangles its faces come from (at
-//! least one of each operand whose surfaces meet there), and is rounded to a corner of the
-//! f64 grid cell around it (each coordinate within an ulp) that lies on or behind every one of
-//! those planes, in the closed inside of each operand's surface there: the nearest f64 point
-//! when it does, else the corner with the fewest coordinates moved off it. A chain of booleans
-//! through files meets these vertices again: `(A ∪ B) − B`, `(A − B) ∪ B` and
+//! least one of each operand whose surfaces meet there), and is rounded to an f64 point on or
+//! behind every one of those planes, in the closed inside of each operand's surface there: the
+//! nearest f64 point when it is, else the nearest such point up to [`INWARD_STEPS`] steps
+//! from it per coordinate (the corners of the f64 cell around the exact point first). A chain
+//! of booleans through files meets these vertices again: `(A ∪ B) − B`, `(A − B) ∪ B` and
 //! `(A ∩ B) − B` put B's faces back against the result's pieces of them, which are B's
 //! triangles with rounded corners. A corner rounded in front of B's plane leaves a slab
 //! between the piece and B's face, thinner than an ulp and as wide as the piece, that the
 //! exact engine keeps (it is there) and no f64 rounding of its own corners can write
 //! without folding; a corner on or behind it puts the piece inside closed B, where the next
 //! boolean removes it whole or keeps B's face instead. Coordinates an f64 holds exactly (a
-//! crossing on an axis plane) stay exact. Where no corner is behind every plane (near a
-//! reflex edge, or three surfaces meeting), the nearest point is taken.
+//! crossing on an axis plane) stay exact. Where no point that near is behind every plane
+//! (three surfaces meeting at a sharp angle), the nearest point is taken.
 //!
-//! Rounding moves intersection points by up to an ulp, which in near-degenerate
-//! configurations makes two output faces cross or a face collapse; the [`certify`] stage
-//! finds and repairs those, starting from the vertices this stage marks as moved.
+//! Rounding moves intersection points by up to `INWARD_STEPS + 1/2` ulps per coordinate,
+//! which in near-degenerate configurations makes two output faces cross or a face collapse;
+//! the [`certify`] stage finds and repairs those, starting from the vertices this stage marks
+//! as moved.
 //!
 //! [`certify`]: super::certify
 
@@ -117,52 +118,68 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
     }
 }
 
-/// `point` rounded to f64: the nearest point if `behind` accepts it, else the first corner of
-/// the f64 grid cell around `point` that `behind` accepts (fewest coordinates moved off the
-/// nearest first), else the nearest (see the module docs). Each coordinate ends within an ulp
-/// of the exact one, and one an f64 holds is kept.
+/// `point` rounded to f64: the nearest point if `behind` accepts it, else the nearest of the
+/// f64 points up to [`INWARD_STEPS`] steps from it in each coordinate that `behind` accepts
+/// (fewest steps first, then fewest coordinates moved, then towards `point`: the corners of
+/// the f64 cell around it before the points beyond), else the nearest (see the module docs).
+/// A coordinate `point` has exactly as an f64 is kept, and none becomes newly subnormal: a
+/// step from 0 to ±5e-324 changes no shape a reader can see, and readers whose predicates
+/// underflow there (Shewchuk's) take the faces around for flat.
 fn round_inward(point: &Point, behind: impl Fn(Point3) -> bool) -> Point3 {
     let nearest = round_point(point);
     if point.is_explicit() || behind(nearest) {
         return nearest;
     }
-    // The other end of the cell in each coordinate, where the exact one is not an f64, unless
-    // it is newly subnormal: a step from 0 to ±5e-324 changes no shape a reader can see, and
-    // readers whose predicates underflow there (Shewchuk's) take the faces around for flat.
+    // Per coordinate, the direction of the exact value from the nearest (0: it is an f64).
     let at_nearest = Point::Explicit(nearest);
-    let other = [Axis::X, Axis::Y, Axis::Z].map(|axis| {
-        let k = axis.index();
-        let other = match compare_along(point, &at_nearest, axis) {
-            std::cmp::Ordering::Less => next_down(nearest[k]),
-            std::cmp::Ordering::Greater => next_up(nearest[k]),
-            std::cmp::Ordering::Equal => return None,
-        };
-        (!other.is_subnormal() || nearest[k].is_subnormal()).then_some(other)
-    });
-    // The cell's corners other than the nearest, one coordinate moved first, then two, then
-    // three.
-    const CORNERS: [[bool; 3]; 7] = [
-        [true, false, false],
-        [false, true, false],
-        [false, false, true],
-        [true, true, false],
-        [true, false, true],
-        [false, true, true],
-        [true, true, true],
-    ];
-    (CORNERS.iter())
-        .filter_map(|moved| {
-            let mut corner = nearest;
-            for k in 0..3 {
-                if moved[k] {
-                    corner[k] = other[k]?;
+    let towards =
+        [Axis::X, Axis::Y, Axis::Z].map(|axis| match compare_along(point, &at_nearest, axis) {
+            std::cmp::Ordering::Less => -1,
+            std::cmp::Ordering::Greater => 1,
+            std::cmp::Ordering::Equal => 0,
+        });
+    let stepped = |k: usize, steps: i32| {
+        let mut x = nearest[k];
+        for _ in 0..steps.unsigned_abs() {
+            x = if steps > 0 { next_up(x) } else { next_down(x) };
+        }
+        (!x.is_subnormal() || nearest[k].is_subnormal()).then_some(x)
+    };
+    let range = -INWARD_STEPS..=INWARD_STEPS;
+    let mut candidates: Vec<([i32; 3], (i32, usize, usize))> = Vec::new();
+    for dx in range.clone() {
+        for dy in range.clone() {
+            for dz in range.clone() {
+                let steps = [dx, dy, dz];
+                if steps == [0; 3] || (0..3).any(|k| towards[k] == 0 && steps[k] != 0) {
+                    continue;
                 }
+                let farthest = steps.iter().map(|s| s.abs()).max().unwrap_or(0);
+                let moved = steps.iter().filter(|&&s| s != 0).count();
+                let away = (0..3).filter(|&k| steps[k] * towards[k] < 0).count();
+                candidates.push((steps, (farthest, moved, away)));
             }
-            Some(corner)
+        }
+    }
+    candidates.sort_by_key(|&(_, key)| key);
+    (candidates.iter())
+        .filter_map(|&(steps, _)| {
+            Some([
+                stepped(0, steps[0])?,
+                stepped(1, steps[1])?,
+                stepped(2, steps[2])?,
+            ])
         })
-        .find(|&corner| behind(corner))
+        .find(|&q| behind(q))
         .unwrap_or(nearest)
 }
+
+/// How far [`round_inward`] looks from the nearest f64 point, in steps per coordinate: every
+/// coordinate ends within `INWARD_STEPS + 1/2` ulps of the exact one. The corners of the
+/// cell around the point lie within one step; where three surfaces meet (an edge of one
+/// operand through a face of another), the cone behind all their planes often misses the
+/// cell but reaches a point two steps out.
+const INWARD_STEPS: i32 = 2;
 
 #[cfg(test)]
 mod tests {
@@ -176,7 +193,7 @@ mod tests {
     #[test]
     fn a_point_rounds_behind_its_planes_within_its_cell() {
         // A tilted plane, and lines across it at many places: whichever way the nearest f64
-        // point falls, the rounding is on or behind the plane and within an ulp.
+        // point falls, the rounding is on or behind the plane and within the cell around it.
         let plane = [[0.0, 0.0, 0.1], [1.0, 0.1, 0.3], [0.2, 1.0, 0.7]];
         let behind = |q: Point3| orient3d(plane[0], plane[1], plane[2], q) != Sign::Negative;
         let mut nearest_in_front = 0;

@@ -10,8 +10,8 @@
 //! - with no exactly degenerate face and no two vertices at one position;
 //! - closed and consistently oriented.
 //!
-//! Every vertex ends near where the exact result has it: rounding moves it by at most an ulp
-//! per coordinate, re-rounding by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at
+//! Every vertex ends near where the exact result has it: rounding moves it by at most 2.5
+//! ulps per coordinate, re-rounding by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at
 //! most half a grid step per level, the steps doubling up to `2^MAX_SNAP_LEVEL` ulps of the
 //! largest coordinate magnitude `M`) by at most `2^MAX_SNAP_LEVEL` ulps of `M` in all: every
 //! coordinate stays within `2^-27 · M` of the exact result. Removing a sliver moves the
@@ -265,6 +265,18 @@ fn certify_rounds(
             return Err(Cancelled.into());
         }
         let problems = find_problems(&mesh, &moved);
+        if std::env::var_os("DBG_INWARD").is_some() {
+            eprintln!(
+                "round {round} level {level} refinements {} crossings {} degenerate {} coincident {} sheets {} to_snap {} faces {}",
+                certificate.rounds,
+                problems.crossing_pairs,
+                problems.degenerate_faces,
+                problems.coincident.len(),
+                problems.sheets.len(),
+                problems.to_snap.len(),
+                mesh.face_count()
+            );
+        }
         if problems.is_empty() {
             return Ok((mesh, certificate));
         }
@@ -319,6 +331,7 @@ fn certify_rounds(
             continue;
         }
         let mut soup = mesh.clone();
+        let mut snapped = Vec::new();
         if !problems.to_snap.is_empty() {
             if rounds_at_level == ROUNDS_PER_LEVEL {
                 level += SNAP_LEVEL_STEP;
@@ -332,14 +345,18 @@ fn certify_rounds(
                 // The whole neighbourhood goes on the grid, not only the crossing faces:
                 // a face between a snapped and an unsnapped vertex tilts, and crosses its
                 // nearly coplanar neighbours.
-                let region = neighbourhood_vertices(&soup, &problems.to_snap);
-                let displacement = snap(&mut soup, &region, level);
-                certificate.record_snap(region.len(), displacement);
+                snapped = neighbourhood_vertices(&soup, &problems.to_snap);
+                let displacement = snap(&mut soup, &snapped, level);
+                certificate.record_snap(snapped.len(), displacement);
             }
         }
         certificate.rounds += 1;
+        // Every vertex that moved since the mesh was last checked: the problem vertices and
+        // the whole snapped neighbourhood (a face there that moved with it can cross one
+        // that did not).
         let suspects: Vec<Point3> = (problems.to_snap.iter())
             .chain(&problems.coincident)
+            .chain(&snapped)
             .map(|&v| soup.positions()[v as usize])
             .collect();
         // The re-refinement's own arrangement decides exactly, but its input is a fold: its
