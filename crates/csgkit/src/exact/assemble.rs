@@ -29,10 +29,13 @@
 //! [`certify`]: super::certify
 
 use crate::par::*;
+use smallvec::SmallVec;
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, compare_along, next_down, next_up, orient3d, round_point,
+    Axis, Point, Point3, Sign, compare_along, next_down, next_up, offsets_from, orient3d,
+    round_point,
 };
+use crate::mesh::vector::{cross, dot, sub};
 use crate::mesh::{Mesh, MeshParts};
 
 use super::ingest::Input;
@@ -69,31 +72,37 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
     }
     let explicit_count = input.positions.len() as u32;
     let unscale = 1.0 / input.scale;
-    // (output vertex, input triangle) for every intersection point and the source triangle of
-    // each face around it, sorted by vertex.
-    let ids = &new_id;
-    let mut planes: Vec<(u32, u32)> = (faces.triangles.par_iter().zip(&faces.source))
-        .flat_map_iter(|(t, &source)| {
-            (t.iter())
-                .filter(|&&v| v >= explicit_count)
-                .map(move |&v| (ids[v as usize], source))
-        })
-        .collect();
-    planes.par_sort_unstable();
-    planes.dedup();
+    // Per output vertex, the source triangles of the faces around it where it is an
+    // intersection point (a few each, with repeats), in one pass of counts and one of fills.
+    let mut starts = vec![0u32; used.len() + 1];
+    for t in &faces.triangles {
+        for &v in t.iter().filter(|&&v| v >= explicit_count) {
+            starts[new_id[v as usize] as usize + 1] += 1;
+        }
+    }
+    for i in 1..starts.len() {
+        starts[i] += starts[i - 1];
+    }
+    let mut sources = vec![0u32; starts[used.len()] as usize];
+    let mut next = starts.clone();
+    for (t, &source) in faces.triangles.iter().zip(&faces.source) {
+        for &v in t.iter().filter(|&&v| v >= explicit_count) {
+            let slot = &mut next[new_id[v as usize] as usize];
+            sources[*slot as usize] = source;
+            *slot += 1;
+        }
+    }
     let positions: Vec<[f64; 3]> = (used.par_iter().enumerate())
         .map(|(i, &v)| {
             let point = arr.point(input, v);
-            let i = i as u32;
-            let around = &planes
-                [planes.partition_point(|&(w, _)| w < i)..planes.partition_point(|&(w, _)| w <= i)];
-            let behind = |q: Point3| {
-                around.iter().all(|&(_, t)| {
-                    let [a, b, c] = input.triangle(t as usize).positions();
-                    orient3d(a, b, c, q) != Sign::Negative
-                })
-            };
-            round_inward(&point, behind).map(|x| x * unscale)
+            let around = &sources[starts[i] as usize..starts[i + 1] as usize];
+            let mut planes: SmallVec<[[Point3; 3]; 6]> = SmallVec::new();
+            for (j, &t) in around.iter().enumerate() {
+                if !around[..j].contains(&t) {
+                    planes.push(input.triangle_positions(t as usize));
+                }
+            }
+            round_inward(&point, &planes).map(|x| x * unscale)
         })
         .collect();
     // An intersection point the split stage simplified to an explicit one is exact.
@@ -118,61 +127,92 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
     }
 }
 
-/// `point` rounded to f64: the nearest point if `behind` accepts it, else the nearest of the
-/// f64 points up to [`INWARD_STEPS`] steps from it in each coordinate that `behind` accepts
-/// (fewest steps first, then fewest coordinates moved, then towards `point`: the corners of
-/// the f64 cell around it before the points beyond), else the nearest (see the module docs).
-/// A coordinate `point` has exactly as an f64 is kept, and none becomes newly subnormal: a
-/// step from 0 to ±5e-324 changes no shape a reader can see, and readers whose predicates
-/// underflow there (Shewchuk's) take the faces around for flat.
-fn round_inward(point: &Point, behind: impl Fn(Point3) -> bool) -> Point3 {
+/// `point` rounded to f64: the nearest point if it lies on or behind every one of `planes`
+/// (triangles through `point`, outward normals by their corners' order), else the first of
+/// the f64 points up to [`INWARD_STEPS`] steps from it per coordinate, in [`INWARD_ORDER`],
+/// that does, else the nearest (see the module docs). A coordinate `point` has exactly as an
+/// f64 is kept, and none becomes newly subnormal: a step from 0 to ±5e-324 changes no shape a
+/// reader can see, and readers whose predicates underflow there (Shewchuk's) take the faces
+/// around for flat.
+///
+/// Every candidate is within an ulp or two of every plane, where `orient3d`'s filter cannot
+/// decide and its exact stages run: the candidates are screened first in f64, by the planes'
+/// normals against the candidate's offset from `point` (the rounding's offset, from
+/// double-doubles, plus its steps), and only those the screen passes are tested exactly, then
+/// the others if none of those is behind.
+fn round_inward(point: &Point, planes: &[[Point3; 3]]) -> Point3 {
+    let behind =
+        |q: Point3| (planes.iter()).all(|&[a, b, c]| orient3d(a, b, c, q) != Sign::Negative);
     let nearest = round_point(point);
-    if point.is_explicit() || behind(nearest) {
+    if point.is_explicit() {
         return nearest;
     }
-    // Per coordinate, the direction of the exact value from the nearest (0: it is an f64).
+    // Per coordinate, the exact value minus the nearest: from double-doubles, or its sign
+    // exactly where they cannot tell (0: the value is that f64).
+    let offsets = offsets_from(point, nearest);
     let at_nearest = Point::Explicit(nearest);
-    let towards =
-        [Axis::X, Axis::Y, Axis::Z].map(|axis| match compare_along(point, &at_nearest, axis) {
-            std::cmp::Ordering::Less => -1,
-            std::cmp::Ordering::Greater => 1,
-            std::cmp::Ordering::Equal => 0,
-        });
-    let stepped = |k: usize, steps: i32| {
-        let mut x = nearest[k];
-        for _ in 0..steps.unsigned_abs() {
-            x = if steps > 0 { next_up(x) } else { next_down(x) };
-        }
-        (!x.is_subnormal() || nearest[k].is_subnormal()).then_some(x)
-    };
-    let range = -INWARD_STEPS..=INWARD_STEPS;
-    let mut candidates: Vec<([i32; 3], (i32, usize, usize))> = Vec::new();
-    for dx in range.clone() {
-        for dy in range.clone() {
-            for dz in range.clone() {
-                let steps = [dx, dy, dz];
-                if steps == [0; 3] || (0..3).any(|k| towards[k] == 0 && steps[k] != 0) {
-                    continue;
-                }
-                let farthest = steps.iter().map(|s| s.abs()).max().unwrap_or(0);
-                let moved = steps.iter().filter(|&&s| s != 0).count();
-                let away = (0..3).filter(|&k| steps[k] * towards[k] < 0).count();
-                candidates.push((steps, (farthest, moved, away)));
+    let offset = [Axis::X, Axis::Y, Axis::Z].map(|axis| {
+        offsets[axis.index()].unwrap_or_else(|| match compare_along(point, &at_nearest, axis) {
+            std::cmp::Ordering::Less => -f64::MIN_POSITIVE,
+            std::cmp::Ordering::Greater => f64::MIN_POSITIVE,
+            std::cmp::Ordering::Equal => 0.0,
+        })
+    });
+    let normals: SmallVec<[Point3; 6]> = (planes.iter())
+        .map(|&[a, b, c]| cross(sub(b, a), sub(c, a)))
+        .collect();
+    // The candidate `steps` away (per coordinate, towards the exact value; negative: away
+    // from it), and its f64 screen: every normal against its offset from `point`.
+    let candidate = |steps: [i32; 3]| -> Option<(Point3, bool)> {
+        let mut q = nearest;
+        for k in 0..3 {
+            if steps[k] == 0 {
+                continue;
+            }
+            if offset[k] == 0.0 {
+                return None;
+            }
+            let up = (steps[k] > 0) == (offset[k] > 0.0);
+            for _ in 0..steps[k].unsigned_abs() {
+                q[k] = if up { next_up(q[k]) } else { next_down(q[k]) };
+            }
+            if q[k].is_subnormal() && !nearest[k].is_subnormal() {
+                return None;
             }
         }
-    }
-    candidates.sort_by_key(|&(_, key)| key);
-    (candidates.iter())
-        .filter_map(|&(steps, _)| {
-            Some([
-                stepped(0, steps[0])?,
-                stepped(1, steps[1])?,
-                stepped(2, steps[2])?,
-            ])
-        })
+        let from_point = [0, 1, 2].map(|k| (q[k] - nearest[k]) - offset[k]);
+        let screened = normals.iter().all(|&n| dot(n, from_point) <= 0.0);
+        Some((q, screened))
+    };
+    let all = std::iter::once([0; 3]).chain(INWARD_ORDER.iter().copied());
+    let screened = (all.clone().filter_map(candidate)).filter(|&(_, screened)| screened);
+    let others = (all.filter_map(candidate)).filter(|&(_, screened)| !screened);
+    (screened.chain(others))
+        .map(|(q, _)| q)
         .find(|&q| behind(q))
         .unwrap_or(nearest)
 }
+
+/// The steps [`round_inward`] tries, per coordinate towards the exact value (negative: away
+/// from it), in its order: fewest steps, then fewest coordinates moved away, then fewest
+/// moved (the corners of the cell around the exact point first, those nearest the nearest
+/// point first). Built once: the nearest point fails a plane for most points where three
+/// surfaces meet.
+static INWARD_ORDER: std::sync::LazyLock<Vec<[i32; 3]>> = std::sync::LazyLock::new(|| {
+    let range = -INWARD_STEPS..=INWARD_STEPS;
+    let mut order: Vec<[i32; 3]> = (range.clone())
+        .flat_map(|x| range.clone().map(move |y| (x, y)))
+        .flat_map(|(x, y)| range.clone().map(move |z| [x, y, z]))
+        .filter(|&steps| steps != [0; 3])
+        .collect();
+    order.sort_by_key(|steps| {
+        let farthest = steps.iter().map(|s| s.abs()).max().unwrap_or(0);
+        let moved = steps.iter().filter(|&&s| s != 0).count();
+        let away = steps.iter().filter(|&&s| s < 0).count();
+        (farthest, away, moved)
+    });
+    order
+});
 
 /// How far [`round_inward`] looks from the nearest f64 point, in steps per coordinate: every
 /// coordinate ends within `INWARD_STEPS + 1/2` ulps of the exact one. The corners of the
@@ -202,14 +242,20 @@ mod tests {
             let point = crossing([t, 0.3 * t, -1.0], [0.7 - t, t, 2.0], plane);
             let nearest = round_point(&point);
             nearest_in_front += usize::from(!behind(nearest));
-            let rounded = round_inward(&point, behind);
+            let rounded = round_inward(&point, &[plane]);
             assert!(behind(rounded), "{rounded:?} is in front of the plane");
+            let offsets = offsets_from(&point, nearest);
             for k in 0..3 {
-                let step =
-                    (next_up(nearest[k]) - nearest[k]).max(nearest[k] - next_down(nearest[k]));
+                // The exact coordinate lies between the nearest and the rounding, or the
+                // rounding is the nearest.
+                let exact_side = offsets[k].map(Sign::of);
+                let moved = Sign::of(rounded[k] - nearest[k]);
                 assert!(
-                    (rounded[k] - nearest[k]).abs() <= step,
-                    "{rounded:?} vs {nearest:?}"
+                    moved == Sign::Zero
+                        || (exact_side == Some(moved)
+                            && (rounded[k] == next_up(nearest[k])
+                                || rounded[k] == next_down(nearest[k]))),
+                    "{rounded:?} is outside the cell of {nearest:?}"
                 );
             }
         }
@@ -221,14 +267,26 @@ mod tests {
 
     #[test]
     fn coordinates_an_f64_holds_stay() {
-        // An axis plane: every crossing keeps z = 0.5 exactly, whatever `behind` asks.
-        let plane = [[0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [0.0, 1.0, 0.5]];
-        let point = crossing([0.1, 0.2, 0.0], [0.4, 0.7, 1.3], plane);
-        let rounded = round_inward(&point, |q| q[0] > 1.0);
-        assert_eq!(rounded, round_point(&point));
-        assert_eq!(rounded[2], 0.5);
-        let moved = round_inward(&point, |q| q != round_point(&point));
-        assert_eq!(moved[2], 0.5);
-        assert_ne!(moved, round_point(&point));
+        // A crossing of an axis plane, also on a tilted plane through its line, taken both
+        // ways round: z stays 0.5 exactly, and the rounding is behind each.
+        let axis_plane = [[0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [0.0, 1.0, 0.5]];
+        let (p, q) = ([0.1, 0.2, 0.0], [0.4, 0.7, 1.3]);
+        let point = crossing(p, q, axis_plane);
+        let nearest = round_point(&point);
+        assert_eq!(nearest[2], 0.5);
+        let mut moved = 0;
+        for tilted in [[p, q, [0.9, 0.1, 0.3]], [q, p, [0.9, 0.1, 0.3]]] {
+            let rounded = round_inward(&point, &[axis_plane, tilted]);
+            assert_eq!(rounded[2], 0.5);
+            assert_ne!(
+                orient3d(tilted[0], tilted[1], tilted[2], rounded),
+                Sign::Negative
+            );
+            moved += usize::from(rounded != nearest);
+        }
+        assert!(
+            moved >= 1,
+            "the nearest point is in front of one of the two"
+        );
     }
 }

@@ -151,8 +151,8 @@ pub use predicates::{
     compare_along, compare_lex, orient2d_projected, orient2d_projected_if_clear,
     orient2d_projected_or_collinear, orient3d_plane, orient3d_points, same_point,
 };
-pub(crate) use rounding::round_point;
 pub use rounding::simplify;
+pub(crate) use rounding::{offsets_from, round_point};
 
 /// The sign of an exact quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -28,6 +28,26 @@ use super::double_double::DoubleDouble;
 use super::implicit::{Point, Point3};
 use super::interval::{next_down, next_up};
 
+/// Per coordinate, `p`'s coordinate minus `q`'s, approximately but with its sign certain,
+/// where double-doubles decide that sign (`None` where they cannot: a difference within about
+/// `2^-100` of the coordinates, or a magnitude out of their range): which way, and about how
+/// far, an intersection point lies from its rounding, for a fraction of the cost of
+/// [`compare_along`](super::compare_along)'s exact stages, which a difference under an ulp
+/// always reaches.
+pub(crate) fn offsets_from(p: &Point, q: Point3) -> [Option<f64>; 3] {
+    let [x, y, z, w] = p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0));
+    let (n, w_sign, w_estimate) = ([x, y, z], w.sign(), w.estimate());
+    std::array::from_fn(|k| match p.known_coordinate(k) {
+        Some(c) => Some(c - q[k]),
+        None => {
+            let difference = n[k].sub(&DoubleDouble::exact(q[k]).mul(&w));
+            let sign = difference.sign()?.times(w_sign?);
+            let offset = difference.estimate() / w_estimate;
+            (Sign::of(offset) == sign).then_some(offset)
+        }
+    })
+}
+
 /// The coordinates of `p` rounded to the nearest f64 (ties to even), each independently.
 pub(crate) fn round_point(p: &Point) -> Point3 {
     if let Point::Explicit(x) = p {
