@@ -32,8 +32,8 @@ use crate::par::*;
 use smallvec::SmallVec;
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, compare_along, next_down, next_up, offsets_from, orient3d,
-    round_point,
+    Axis, Point, Point3, Sign, compare_along, next_down, next_up, orient3d,
+    round_point_with_offsets,
 };
 use crate::mesh::vector::{cross, dot, sub};
 use crate::mesh::{Mesh, MeshParts};
@@ -143,13 +143,12 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
 fn round_inward(point: &Point, planes: &[[Point3; 3]]) -> Point3 {
     let behind =
         |q: Point3| (planes.iter()).all(|&[a, b, c]| orient3d(a, b, c, q) != Sign::Negative);
-    let nearest = round_point(point);
+    let (nearest, offsets) = round_point_with_offsets(point);
     if point.is_explicit() {
         return nearest;
     }
     // Per coordinate, the exact value minus the nearest: from double-doubles, or its sign
     // exactly where they cannot tell (0: the value is that f64).
-    let offsets = offsets_from(point, nearest);
     let at_nearest = Point::Explicit(nearest);
     let offset = [Axis::X, Axis::Y, Axis::Z].map(|axis| {
         offsets[axis.index()].unwrap_or_else(|| match compare_along(point, &at_nearest, axis) {
@@ -224,6 +223,7 @@ const INWARD_STEPS: i32 = 2;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::round_point;
 
     /// The point where the line from `p` to `q` meets the plane of `plane`.
     fn crossing(p: Point3, q: Point3, plane: [Point3; 3]) -> Point {
@@ -244,7 +244,7 @@ mod tests {
             nearest_in_front += usize::from(!behind(nearest));
             let rounded = round_inward(&point, &[plane]);
             assert!(behind(rounded), "{rounded:?} is in front of the plane");
-            let offsets = offsets_from(&point, nearest);
+            let (_, offsets) = round_point_with_offsets(&point);
             for k in 0..3 {
                 // The exact coordinate lies between the nearest and the rounding, or the
                 // rounding is the nearest.

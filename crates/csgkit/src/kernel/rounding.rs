@@ -28,24 +28,32 @@ use super::double_double::DoubleDouble;
 use super::implicit::{Point, Point3};
 use super::interval::{next_down, next_up};
 
-/// Per coordinate, `p`'s coordinate minus `q`'s, approximately but with its sign certain,
-/// where double-doubles decide that sign (`None` where they cannot: a difference within about
-/// `2^-100` of the coordinates, or a magnitude out of their range): which way, and about how
-/// far, an intersection point lies from its rounding, for a fraction of the cost of
+/// [`round_point`], and per coordinate the exact value minus that rounding, approximately
+/// but with its sign certain, where double-doubles decide the sign (`None` where they cannot:
+/// a difference within about `2^-100` of the coordinates, or a magnitude out of their range),
+/// from one evaluation of the homogeneous coordinates: which way, and about how far, an
+/// intersection point lies from its rounding, for a fraction of the cost of
 /// [`compare_along`](super::compare_along)'s exact stages, which a difference under an ulp
 /// always reaches.
-pub(crate) fn offsets_from(p: &Point, q: Point3) -> [Option<f64>; 3] {
-    let [x, y, z, w] = p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0));
+pub(crate) fn round_point_with_offsets(p: &Point) -> (Point3, [Option<f64>; 3]) {
+    if let Point::Explicit(x) = p {
+        return (*x, [Some(0.0); 3]);
+    }
+    let hom = p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0));
+    let nearest =
+        nearest_by_double_doubles(p, &hom).unwrap_or_else(|| quotients(p).map(|(value, _)| value));
+    let [x, y, z, w] = hom;
     let (n, w_sign, w_estimate) = ([x, y, z], w.sign(), w.estimate());
-    std::array::from_fn(|k| match p.known_coordinate(k) {
-        Some(c) => Some(c - q[k]),
+    let offsets = std::array::from_fn(|k| match p.known_coordinate(k) {
+        Some(c) => Some(c - nearest[k]),
         None => {
-            let difference = n[k].sub(&DoubleDouble::exact(q[k]).mul(&w));
+            let difference = n[k].sub(&DoubleDouble::exact(nearest[k]).mul(&w));
             let sign = difference.sign()?.times(w_sign?);
             let offset = difference.estimate() / w_estimate;
             (Sign::of(offset) == sign).then_some(offset)
         }
-    })
+    });
+    (nearest, offsets)
 }
 
 /// The coordinates of `p` rounded to the nearest f64 (ties to even), each independently.
@@ -53,14 +61,16 @@ pub(crate) fn round_point(p: &Point) -> Point3 {
     if let Point::Explicit(x) = p {
         return *x;
     }
-    nearest_by_double_doubles(p).unwrap_or_else(|| quotients(p).map(|(value, _)| value))
+    let hom = p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0));
+    nearest_by_double_doubles(p, &hom).unwrap_or_else(|| quotients(p).map(|(value, _)| value))
 }
 
 /// The coordinates of `p` rounded to the nearest f64, where double-doubles decide every one
 /// (see the module docs); `None` otherwise. A coordinate the point's definition fixes
-/// ([`Point::known_coordinate`]: on an axis plane) is itself.
-fn nearest_by_double_doubles(p: &Point) -> Option<Point3> {
-    let [x, y, z, w] = p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0));
+/// ([`Point::known_coordinate`]: on an axis plane) is itself. `hom` is `p`'s homogeneous
+/// coordinates in double-doubles.
+fn nearest_by_double_doubles(p: &Point, hom: &[DoubleDouble; 4]) -> Option<Point3> {
+    let [x, y, z, w] = hom;
     let w_sign = w.sign()?;
     let nearest = |k: usize, n: &DoubleDouble| {
         if let Some(c) = p.known_coordinate(k) {
@@ -70,7 +80,7 @@ fn nearest_by_double_doubles(p: &Point) -> Option<Point3> {
         // is exact as a double-double (their difference is a power of two).
         let side_of_midpoint = |a: f64, b: f64| -> Option<Sign> {
             let midpoint = DoubleDouble::exact(a).add(&DoubleDouble::exact((b - a) * 0.5));
-            Some(n.sub(&midpoint.mul(&w)).sign()?.times(w_sign))
+            Some(n.sub(&midpoint.mul(w)).sign()?.times(w_sign))
         };
         // The estimate is within an ulp or two: step towards the quotient until it lies
         // strictly between the midpoints around the candidate.
@@ -89,7 +99,7 @@ fn nearest_by_double_doubles(p: &Point) -> Option<Point3> {
         }
         None
     };
-    Some([nearest(0, &x)?, nearest(1, &y)?, nearest(2, &z)?])
+    Some([nearest(0, x)?, nearest(1, y)?, nearest(2, z)?])
 }
 
 /// `p` as an explicit point when its exact coordinates are f64 numbers, else `p`.
@@ -232,6 +242,11 @@ fn times_pow2(mut x: f64, mut exp: i64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `p`'s homogeneous coordinates in double-doubles, as rounding evaluates them.
+    fn in_double_doubles(p: &Point) -> [DoubleDouble; 4] {
+        p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0))
+    }
     use crate::kernel::oracle;
     use crate::kernel::tests::xorshift;
     use num_traits::Signed;
@@ -326,7 +341,7 @@ mod tests {
         let mut decided = 0;
         for x in &points {
             let exact = quotients(x).map(|(value, _)| value.to_bits());
-            if let Some(fast) = nearest_by_double_doubles(x) {
+            if let Some(fast) = nearest_by_double_doubles(x, &in_double_doubles(x)) {
                 assert_eq!(fast.map(f64::to_bits), exact);
                 decided += 1;
             }
@@ -347,7 +362,10 @@ mod tests {
         let end = [2.0, 1.0f64.next_up(), 0.0];
         let tie = Point::lpi([0.0, 1.0, 0.0], end, plane[0], plane[1], plane[2])
             .expect("the line crosses the plane");
-        assert_eq!(nearest_by_double_doubles(&tie), None);
+        assert_eq!(
+            nearest_by_double_doubles(&tie, &in_double_doubles(&tie)),
+            None
+        );
         assert_eq!(round_point(&tie), [1.0, 1.0, 0.0]);
         assert_rounds_to_nearest(&tie);
     }
