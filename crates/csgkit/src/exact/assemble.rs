@@ -130,7 +130,9 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
 /// `point` rounded to f64: the nearest point if it lies on or behind every one of `planes`
 /// (triangles through `point`, outward normals by their corners' order), else the first of
 /// the f64 points up to [`INWARD_STEPS`] steps from it per coordinate, in [`INWARD_ORDER`],
-/// that does, else the nearest (see the module docs). A coordinate `point` has exactly as an
+/// that does, else the nearest (see the module docs); the points the f64 screen below passes
+/// come first, so a nearest point the screen takes for in front by less than its error
+/// yields to another that is behind. A coordinate `point` has exactly as an
 /// f64 is kept, and none becomes newly subnormal: a step from 0 to ±5e-324 changes no shape a
 /// reader can see, and readers whose predicates underflow there (Shewchuk's) take the faces
 /// around for flat.

@@ -70,6 +70,8 @@ use rustc_hash::FxHashMap;
 
 use crate::index::{Aabb, Bvh, Occupancy};
 use crate::kernel::Point3;
+use crate::mesh::union_find::UnionFind;
+use crate::mesh::vector::{cross, dot, norm, sub};
 use crate::mesh::{Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_positions};
 
 use crate::progress::{Cancelled, Counter, Progress, Stage};
@@ -265,18 +267,6 @@ fn certify_rounds(
             return Err(Cancelled.into());
         }
         let problems = find_problems(&mesh, &moved);
-        if std::env::var_os("DBG_INWARD").is_some() {
-            eprintln!(
-                "round {round} level {level} refinements {} crossings {} degenerate {} coincident {} sheets {} to_snap {} faces {}",
-                certificate.rounds,
-                problems.crossing_pairs,
-                problems.degenerate_faces,
-                problems.coincident.len(),
-                problems.sheets.len(),
-                problems.to_snap.len(),
-                mesh.face_count()
-            );
-        }
         if problems.is_empty() {
             return Ok((mesh, certificate));
         }
@@ -816,8 +806,6 @@ fn merge_coincident(mesh: Mesh, moved: &[bool]) -> (Mesh, Vec<bool>) {
 /// closed and changes the volume by less than its area times the tolerance. Both sums run
 /// from a vertex of the shell, so their rounding error is relative to the shell's size.
 fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32>) {
-    use crate::mesh::union_find::UnionFind;
-    use crate::mesh::vector::{cross, dot, norm, sub};
     let corners = mesh.corners();
     let positions = mesh.positions();
     let mut sets = UnionFind::new(positions.len());
