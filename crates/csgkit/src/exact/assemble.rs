@@ -32,8 +32,7 @@ use crate::par::*;
 use smallvec::SmallVec;
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, compare_along, next_down, next_up, orient3d,
-    round_point_with_offsets,
+    Axis, Point, Point3, Sign, compare_along, orient3d, round_point_with_offsets, step_by,
 };
 use crate::mesh::vector::{cross, dot, sub};
 use crate::mesh::{Mesh, MeshParts};
@@ -92,7 +91,9 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
             *slot += 1;
         }
     }
-    let positions: Vec<[f64; 3]> = (used.par_iter().enumerate())
+    // An intersection point the split stage simplified to an explicit one is exact: only the
+    // others move.
+    let (positions, moved): (Vec<[f64; 3]>, Vec<bool>) = (used.par_iter().enumerate())
         .map(|(i, &v)| {
             let point = arr.point(input, v);
             let around = &sources[starts[i] as usize..starts[i + 1] as usize];
@@ -102,13 +103,10 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
                     planes.push(input.triangle_positions(t as usize));
                 }
             }
-            round_inward(&point, &planes).map(|x| x * unscale)
+            let position = round_inward(&point, &planes).map(|x| x * unscale);
+            (position, !point.is_explicit())
         })
-        .collect();
-    // An intersection point the split stage simplified to an explicit one is exact.
-    let moved: Vec<bool> = (used.par_iter())
-        .map(|&v| v >= explicit_count && !arr.point(input, v).is_explicit())
-        .collect();
+        .unzip();
     let rounded = moved.iter().filter(|&&m| m).count();
     let corners: Vec<u32> = (faces.triangles.par_iter())
         .flat_map_iter(|t| t.map(|v| new_id[v as usize]))
@@ -143,12 +141,12 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
 /// double-doubles, plus its steps), and only those the screen passes are tested exactly, then
 /// the others if none of those is behind.
 fn round_inward(point: &Point, planes: &[[Point3; 3]]) -> Point3 {
+    if let Point::Explicit(exact) = point {
+        return *exact;
+    }
     let behind =
         |q: Point3| (planes.iter()).all(|&[a, b, c]| orient3d(a, b, c, q) != Sign::Negative);
     let (nearest, offsets) = round_point_with_offsets(point);
-    if point.is_explicit() {
-        return nearest;
-    }
     // Per coordinate, the exact value minus the nearest: from double-doubles, or its sign
     // exactly where they cannot tell (0: the value is that f64).
     let at_nearest = Point::Explicit(nearest);
@@ -173,10 +171,8 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]]) -> Point3 {
             if offset[k] == 0.0 {
                 return None;
             }
-            let up = (steps[k] > 0) == (offset[k] > 0.0);
-            for _ in 0..steps[k].unsigned_abs() {
-                q[k] = if up { next_up(q[k]) } else { next_down(q[k]) };
-            }
+            // Towards the exact value is up where it lies above the nearest.
+            q[k] = step_by(q[k], if offset[k] > 0.0 { steps[k] } else { -steps[k] });
             if q[k].is_subnormal() && !nearest[k].is_subnormal() {
                 return None;
             }
@@ -255,8 +251,8 @@ mod tests {
                 assert!(
                     moved == Sign::Zero
                         || (exact_side == Some(moved)
-                            && (rounded[k] == next_up(nearest[k])
-                                || rounded[k] == next_down(nearest[k]))),
+                            && (rounded[k] == step_by(nearest[k], 1)
+                                || rounded[k] == step_by(nearest[k], -1))),
                     "{rounded:?} is outside the cell of {nearest:?}"
                 );
             }

@@ -57,6 +57,13 @@ pub(crate) fn next_down(x: f64) -> f64 {
     -next_up(-x)
 }
 
+/// `x` moved by `steps` f64 steps, up when positive: the f64 points around an output vertex
+/// that rounding and certification choose among.
+pub(crate) fn step_by(x: f64, steps: i32) -> f64 {
+    let step = if steps > 0 { next_up } else { next_down };
+    (0..steps.unsigned_abs()).fold(x, |x, _| step(x))
+}
+
 impl Interval {
     /// The point interval of an f64, exact by definition.
     #[inline]

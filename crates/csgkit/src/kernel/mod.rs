@@ -141,7 +141,7 @@ pub(crate) mod oracle;
 pub(crate) mod tests;
 
 pub use implicit::{Lpi, Point, Point3, Tpi};
-pub(crate) use interval::{next_down, next_up};
+pub(crate) use interval::step_by;
 pub(crate) use orient::{
     PlaneFilter, incircle_value_if_clear, normal_component_is_zero, orient2d_filterable,
     orient2d_value_if_clear,

@@ -40,8 +40,7 @@ pub(crate) fn round_point_with_offsets(p: &Point) -> (Point3, [Option<f64>; 3]) 
         return (*x, [Some(0.0); 3]);
     }
     let hom = p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0));
-    let nearest =
-        nearest_by_double_doubles(p, &hom).unwrap_or_else(|| quotients(p).map(|(value, _)| value));
+    let nearest = nearest(p, &hom);
     let [x, y, z, w] = hom;
     let (n, w_sign, w_estimate) = ([x, y, z], w.sign(), w.estimate());
     let offsets = std::array::from_fn(|k| match p.known_coordinate(k) {
@@ -61,8 +60,13 @@ pub(crate) fn round_point(p: &Point) -> Point3 {
     if let Point::Explicit(x) = p {
         return *x;
     }
-    let hom = p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0));
-    nearest_by_double_doubles(p, &hom).unwrap_or_else(|| quotients(p).map(|(value, _)| value))
+    nearest(p, &p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0)))
+}
+
+/// The nearest f64 point to `p`, given its homogeneous coordinates in double-doubles: by
+/// them where they decide every coordinate, else exactly.
+fn nearest(p: &Point, hom: &[DoubleDouble; 4]) -> Point3 {
+    nearest_by_double_doubles(p, hom).unwrap_or_else(|| quotients(p).map(|(value, _)| value))
 }
 
 /// The coordinates of `p` rounded to the nearest f64, where double-doubles decide every one
@@ -242,14 +246,14 @@ fn times_pow2(mut x: f64, mut exp: i64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::oracle;
+    use crate::kernel::tests::xorshift;
+    use num_traits::Signed;
 
     /// `p`'s homogeneous coordinates in double-doubles, as rounding evaluates them.
     fn in_double_doubles(p: &Point) -> [DoubleDouble; 4] {
         p.hom(&DoubleDouble::exact, &DoubleDouble::exact(1.0))
     }
-    use crate::kernel::oracle;
-    use crate::kernel::tests::xorshift;
-    use num_traits::Signed;
 
     /// The segment (0,0,0)-(4,2,6) meets the plane z = 3 at (2, 1, 3).
     fn on_grid() -> Point {

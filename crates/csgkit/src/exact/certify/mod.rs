@@ -69,7 +69,7 @@ use crate::par::*;
 use rustc_hash::FxHashMap;
 
 use crate::index::{Aabb, Bvh, Occupancy};
-use crate::kernel::Point3;
+use crate::kernel::{Point3, step_by};
 use crate::mesh::union_find::UnionFind;
 use crate::mesh::vector::{cross, dot, norm, sub};
 use crate::mesh::{Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_positions};
@@ -728,32 +728,6 @@ fn neighbours(p: Point3, steps: u32) -> Vec<Point3> {
     }
     out.sort_by_key(|e| (e.0, e.1));
     out.into_iter().map(|e| e.2).collect()
-}
-
-/// `x` moved by `steps` f64 steps (up when positive).
-fn step_by(x: f64, steps: i32) -> f64 {
-    let to = if steps > 0 {
-        f64::INFINITY
-    } else {
-        f64::NEG_INFINITY
-    };
-    (0..steps.abs()).fold(x, |x, _| next_toward(x, to))
-}
-
-/// The next f64 after `x` towards `to`.
-fn next_toward(x: f64, to: f64) -> f64 {
-    if x == to || !x.is_finite() {
-        return x;
-    }
-    if x == 0.0 {
-        return f64::from_bits(1).copysign(to);
-    }
-    let bits = x.to_bits();
-    if (x < to) == (x > 0.0) {
-        f64::from_bits(bits + 1)
-    } else {
-        f64::from_bits(bits - 1)
-    }
 }
 
 /// The distance from `p` to `q`, without underflow for moves of a few subnormal steps.
