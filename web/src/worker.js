@@ -9,9 +9,10 @@ import { EXAMPLES, castleBite, demoSolids, mengerOperands } from "./examples.js"
 
 const ready = init({ module_or_path: new URL("pkg/csgkit_wasm_bg.wasm", self.location.href) });
 
-/** The operands loaded, each {name, mesh}, and the last result. */
+/** The operands loaded, each {name, mesh}, the last result and the operation that made it. */
 let operands = [];
 let result = null;
+let resultOp = null;
 
 /** What the viewer draws of a mesh: positions as float32, its triangles, their faces, the
  * polygon edges, and a colour per face. */
@@ -125,6 +126,7 @@ function run(op) {
   const meshes = operands.map((o) => o.mesh);
   const start = performance.now();
   result = csgkit.boolean(op, meshes, { ...BOOLEAN_OPTIONS, progress });
+  resultOp = op;
   const opMs = performance.now() - start;
   const report = csgkit.check(result, { selfIntersections: false });
   postMessage({
@@ -152,7 +154,12 @@ onmessage = async ({ data }) => {
       run(data.op);
     } else if (data.type === "save") {
       if (!result) throw new Error("nothing to save: run an operation first");
-      const bytes = csgkit.save(result, data.name);
+      // GLB stores float32: the result written there is computed again, rounded to f32 and
+      // certified in it, so the file holds a valid solid, not the f64 result rounded after.
+      const mesh = /\.(glb|gltf|stl)$/i.test(data.name)
+        ? csgkit.boolean(resultOp, operands.map((o) => o.mesh), { ...BOOLEAN_OPTIONS, precision: "f32", progress })
+        : result;
+      const bytes = csgkit.save(mesh, data.name);
       postMessage({ type: "saved", name: data.name, bytes }, [bytes.buffer]);
     }
   } catch (error) {

@@ -1,6 +1,7 @@
 //! 3MF and glTF end to end: booleans across formats keep materials and colours, a 3MF of
 //! several build items gives several operands (or one with `--merge`), `csgkit info` reports
-//! parts and units, and writing glTF warns once when coordinates are rounded to f32.
+//! parts and units, booleans written to glTF or binary STL are certified in f32, and writing
+//! another mesh there warns once when coordinates are rounded to f32.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -73,12 +74,36 @@ fn a_union_of_3mf_and_glb_keeps_materials_and_colours() {
 }
 
 #[test]
-fn writing_gltf_warns_once_when_coordinates_are_rounded() {
+fn booleans_written_in_f32_are_certified_there_and_other_meshes_warn() {
     let dir = tempfile::tempdir().expect("temporary folder");
+    // 0.1 is no f32 number: the boolean rounds it, and every intersection point, to f32 and
+    // certifies the result there, so writing GLB or binary STL rounds nothing more.
     let a = write(&dir, "a.ply", &cuboid([0.1; 3], [2.0; 3]));
     let b = write(&dir, "b.ply", &cuboid([1.0; 3], [3.0; 3]));
-    let out = dir.path().join("out.glb");
-    let output = csgkit_ok(&["union", arg(&a), arg(&b), "-o", arg(&out)]);
+    for name in ["out.glb", "out.stl"] {
+        let out = dir.path().join(name);
+        let output = csgkit_ok(&["union", arg(&a), arg(&b), "-o", arg(&out)]);
+        assert!(
+            output.stderr.is_empty(),
+            "{name}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let mesh = csgkit::read_mesh(&out).expect("the output reads back").mesh;
+        let report = mesh.report();
+        assert!(report.is_valid_solid(), "{name}");
+        // The union of [0.1f32, 2]³ and [1, 3]³ (overlapping in [1, 2]³).
+        let expected = (2.0 - f64::from(0.1f32)).powi(3) + 8.0 - 1.0;
+        let volume = report.measures.volume;
+        assert!(
+            (volume - expected).abs() < 1e-12,
+            "{name}: {volume} vs {expected}"
+        );
+    }
+    // A mesh that is no boolean's result is rounded on writing, with one warning line.
+    let boxes = dir.path().join("boxes.txt");
+    std::fs::write(&boxes, "0.1 0 0 1 1 1\n").expect("box file");
+    let out = dir.path().join("boxes.glb");
+    let output = csgkit_ok(&["boxes", arg(&boxes), "-o", arg(&out)]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(

@@ -9,7 +9,9 @@ use std::path::PathBuf;
 use csgkit::exact::{BooleanOptions, WindingRule};
 use csgkit::mesh::FaceMode;
 use csgkit::ortho::{BoxFile, MeshOptions, box_union_mesh, read_box_file, with_palette_colors};
-use csgkit::{DiscreteEngine, DiscreteSurface, Engine, ErrorKind, ExactEngine, Mesh, Operation};
+use csgkit::{
+    DiscreteEngine, DiscreteSurface, Engine, ErrorKind, ExactEngine, Mesh, Operation, Precision,
+};
 use numpy::{AllowTypeChange, PyArrayLikeDyn};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -26,8 +28,9 @@ struct BooleanArgs<'py> {
 }
 
 impl<'py> BooleanArgs<'py> {
-    /// Reads `winding`, `faces`, `self_check`, `manifold`, `merge_coplanar`, `simplify` and
-    /// `progress`; any other keyword is a `TypeError`, as for a Python function.
+    /// Reads `winding`, `faces`, `self_check`, `manifold`, `merge_coplanar`, `simplify`,
+    /// `precision` and `progress`; any other keyword is a `TypeError`, as for a Python
+    /// function.
     fn from_kwargs(kwargs: Option<&Bound<'py, PyDict>>) -> PyResult<Self> {
         let mut args = BooleanArgs {
             options: BooleanOptions::default(),
@@ -50,6 +53,9 @@ impl<'py> BooleanArgs<'py> {
                 "manifold" => options.split_non_manifold = value.extract().map_err(wrong_type)?,
                 "merge_coplanar" => options.merge_coplanar = value.extract().map_err(wrong_type)?,
                 "simplify" => options.simplify = simplify(value.extract().map_err(wrong_type)?)?,
+                "precision" => {
+                    options.precision = precision(&value.extract::<String>().map_err(wrong_type)?)?
+                }
                 "progress" => args.progress = (!value.is_none()).then_some(value),
                 _ => {
                     return Err(PyTypeError::new_err(format!(
@@ -69,6 +75,17 @@ fn winding(name: &str) -> PyResult<WindingRule> {
         "positive" => Ok(WindingRule::Positive),
         _ => Err(errors::input(format!(
             "unknown winding rule '{name}': expected 'nonzero' or 'positive'"
+        ))),
+    }
+}
+
+/// The precision named `name`.
+fn precision(name: &str) -> PyResult<Precision> {
+    match name {
+        "f64" => Ok(Precision::F64),
+        "f32" => Ok(Precision::F32),
+        _ => Err(errors::input(format!(
+            "unknown precision '{name}': expected 'f64' or 'f32'"
         ))),
     }
 }
@@ -131,8 +148,8 @@ fn exact(
 /// A difference is the first mesh minus all others; xor keeps the points in an odd number of
 /// meshes. Each mesh is a `csgkit.Mesh`, a `(vertices, faces)` pair of arrays, or an object
 /// with `vertices` and `faces` (a `trimesh.Trimesh`). Every decision is exact on the float64
-/// input, and the result is certified as float64 numbers: closed, consistently oriented,
-/// without self-intersections. Its faces carry the materials, UVs and provenance of the
+/// input, and the result is certified as float64 numbers (float32 with precision='f32'):
+/// closed, consistently oriented, without self-intersections. Its faces carry the materials, UVs and provenance of the
 /// input faces they were cut from.
 ///
 /// Keyword options, as the command line's:
@@ -145,6 +162,9 @@ fn exact(
 ///   manifold=False: split non-manifold edges and vertices (`--manifold`);
 ///   merge_coplanar=False: merge neighbouring faces in one plane (`--merge-coplanar`);
 ///   simplify=None: a length; merge faces flat to within it (`--simplify`);
+///   precision='f64' | 'f32': the numbers the result is rounded to and certified in; 'f32'
+///     for a result saved as binary STL or glTF (which store float32, as the command line
+///     does for those files) or used as float32 arrays;
 ///   progress=None: a callable taking (stage, done, total), returning False to cancel.
 ///
 /// The GIL is released while it runs. Raises InputError for bad arrays, an unknown name or
@@ -161,7 +181,7 @@ fn exact(
 #[pyfunction]
 #[pyo3(signature = (operation, meshes, **options))]
 #[pyo3(
-    text_signature = "(operation, meshes, *, winding='nonzero', faces='triangles', self_check=True, manifold=False, merge_coplanar=False, simplify=None, progress=None)"
+    text_signature = "(operation, meshes, *, winding='nonzero', faces='triangles', self_check=True, manifold=False, merge_coplanar=False, simplify=None, precision='f64', progress=None)"
 )]
 pub fn boolean(
     py: Python<'_>,
@@ -181,7 +201,7 @@ macro_rules! shorthand {
         #[pyfunction]
         #[pyo3(signature = (*meshes, **options))]
         #[pyo3(
-            text_signature = "(*meshes, winding='nonzero', faces='triangles', self_check=True, manifold=False, merge_coplanar=False, simplify=None, progress=None)"
+            text_signature = "(*meshes, winding='nonzero', faces='triangles', self_check=True, manifold=False, merge_coplanar=False, simplify=None, precision='f64', progress=None)"
         )]
         pub fn $name(
             py: Python<'_>,

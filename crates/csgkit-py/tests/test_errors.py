@@ -96,6 +96,7 @@ def test_an_open_mesh_is_refused_naming_the_operand():
         (lambda: csgkit.union(cube(), winding="odd"), "unknown winding rule 'odd'"),
         (lambda: csgkit.union(cube(), faces="hexagons"), "unknown face mode 'hexagons'"),
         (lambda: csgkit.union(cube(), simplify=-1.0), "simplify must be a positive length, not -1"),
+        (lambda: csgkit.union(cube(), precision="f16"), "unknown precision 'f16': expected 'f64' or 'f32'"),
         (lambda: csgkit.voxelize(cube(), 0.3, surface="dots"), "unknown surface 'dots'"),
         (lambda: csgkit.voxelize(cube(), -1.0), "cell size -1 is not a positive finite number"),
         (lambda: csgkit.boxes(np.zeros((3, 5))), r"boxes must be an array of shape \(n, 6\), not \[3, 5\]"),

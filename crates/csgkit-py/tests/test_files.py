@@ -43,6 +43,21 @@ def test_round_trips_keep_every_coordinate(tmp_path, extension, ascii):
         assert csgkit.check(back)["volume"] == csgkit.check(result)["volume"]
 
 
+@pytest.mark.parametrize("extension", ["stl", "glb"])
+def test_a_result_in_float32_is_what_the_file_stores(tmp_path, extension):
+    # Certified in float32, the result saves to a float32 format without rounding, so no
+    # warning, and reads back as the same valid solid without self-intersections.
+    result = csgkit.union(sphere(subdivisions=2), sphere((0.3, 0.2, 0.1), 0.9, 2), precision="f32")
+    np.testing.assert_array_equal(result.vertices, result.vertices.astype(np.float32))
+    path = tmp_path / f"result.{extension}"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        csgkit.save(result, path)
+    report = csgkit.check(csgkit.load(path))
+    assert report["valid_solid"] and report["selfint_pairs"] == 0 and report["degenerate_faces"] == 0
+    assert report["volume"] == pytest.approx(csgkit.check(result)["volume"], rel=1e-12)
+
+
 def test_polygons_round_trip_where_the_format_holds_them(tmp_path):
     result = csgkit.union(cube(), cube((0.5, 0.5, 0), (2, 2, 1)), faces="polygons")
     assert isinstance(result.faces, list)

@@ -8,7 +8,9 @@
 use csgkit::exact::{BooleanOptions, WindingRule};
 use csgkit::mesh::FaceMode;
 use csgkit::ortho::{BoxFile, MeshOptions, box_union_mesh, read_box_file, with_palette_colors};
-use csgkit::{DiscreteEngine, DiscreteSurface, Engine, ExactEngine, Operation, primitives};
+use csgkit::{
+    DiscreteEngine, DiscreteSurface, Engine, ExactEngine, Operation, Precision, primitives,
+};
 use js_sys::{Array, Object};
 use wasm_bindgen::prelude::*;
 
@@ -60,8 +62,8 @@ struct BooleanArgs {
 }
 
 impl BooleanArgs {
-    /// Reads `winding`, `faces`, `selfCheck`, `manifold`, `mergeCoplanar`, `simplify` and
-    /// `progress`.
+    /// Reads `winding`, `faces`, `selfCheck`, `manifold`, `mergeCoplanar`, `simplify`,
+    /// `precision` and `progress`.
     fn from_options(options: Option<Object>) -> Result<Self> {
         let mut args = BooleanArgs {
             options: BooleanOptions::default(),
@@ -76,6 +78,7 @@ impl BooleanArgs {
                 "manifold" => options.split_non_manifold = flag(&key, &value)?,
                 "mergeCoplanar" => options.merge_coplanar = flag(&key, &value)?,
                 "simplify" => options.simplify = simplify(&value)?,
+                "precision" => options.precision = precision(&text(&key, &value)?)?,
                 "progress" => args.progress = callback(&value)?,
                 _ => return Err(unknown(&key)),
             }
@@ -91,6 +94,17 @@ fn winding(name: &str) -> Result<WindingRule> {
         "positive" => Ok(WindingRule::Positive),
         _ => Err(errors::input(&format!(
             "unknown winding rule '{name}': expected 'nonzero' or 'positive'"
+        ))),
+    }
+}
+
+/// The precision named `name`.
+fn precision(name: &str) -> Result<Precision> {
+    match name {
+        "f64" => Ok(Precision::F64),
+        "f32" => Ok(Precision::F32),
+        _ => Err(errors::input(&format!(
+            "unknown precision '{name}': expected 'f64' or 'f32'"
         ))),
     }
 }
@@ -148,12 +162,14 @@ fn exact(op: Operation, meshes: &Array, options: Option<Object>) -> Result<Mesh>
 ///
 /// A difference is the first mesh minus all others; xor keeps the points in an odd number of
 /// meshes. Every decision is exact on the float64 input, and the result is certified as
-/// float64 numbers: closed, consistently oriented, without self-intersections. Its faces carry
+/// float64 numbers (float32 with `precision: 'f32'`): closed, consistently oriented, without
+/// self-intersections. Its faces carry
 /// the materials, colours and UVs of the input faces they were cut from.
 ///
 /// Options, as the command line's: `winding` ('nonzero' or 'positive'), `faces`
 /// ('triangles', 'polygons' or 'quads'), `selfCheck` (true), `manifold` (false),
-/// `mergeCoplanar` (false), `simplify` (a length, or none), `progress` (a function of
+/// `mergeCoplanar` (false), `simplify` (a length, or none), `precision` ('f64', or 'f32' for a
+/// result saved as GLB or binary STL, which store float32), `progress` (a function of
 /// (stage, done, total) that returns false to cancel). Throws `InputError` for an unknown
 /// name or a mesh that is not closed (the message names the operand), `CancelledError`,
 /// or `CsgkitError`.

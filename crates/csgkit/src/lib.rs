@@ -57,6 +57,7 @@ pub use io::{
     Unit, WriteError, WriteOptions, Written, no_external_files, read_mesh, read_mesh_from_bytes,
     read_meshes, read_meshes_from_bytes, rounded_coordinates, write_mesh, write_mesh_to_bytes,
 };
+pub use kernel::Precision;
 pub use mesh::{FaceId, InvalidMesh, Mesh, MeshParts, OperandId, Provenance, Rgba, VertexId};
 pub use operation::Operation;
 pub use progress::{Callback, Cancelled, Progress, Report, Stage};

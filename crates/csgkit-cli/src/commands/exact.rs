@@ -42,7 +42,7 @@ pub struct ExactArgs {
     #[arg(required = true, num_args = 1.., value_name = "FILE")]
     pub inputs: Vec<PathBuf>,
     /// The output mesh; its extension chooses the format (obj, ply, off, stl, 3mf, gltf, glb;
-    /// glTF stores f32, so its coordinates are rounded, with a warning).
+    /// binary STL and glTF store f32, so the result is rounded to f32 and certified there).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Read each file as one operand: the build items of a 3MF, or the mesh nodes of a glTF,
@@ -102,12 +102,14 @@ pub struct FaceArgs {
 
 impl FaceArgs {
     /// `options` with the faces, merging and simplification these arguments ask for, for a
-    /// result written in `format`.
+    /// result written in `format`, and the precision it stores (f32 in binary STL and glTF:
+    /// the result is certified in the coordinates written).
     pub fn apply(&self, format: Format, options: BooleanOptions) -> BooleanOptions {
         BooleanOptions {
             faces: self.face_mode(format),
             merge_coplanar: self.merge_coplanar,
             simplify: self.simplify,
+            precision: format.precision(WriteOptions::default().encoding),
             ..options
         }
     }

@@ -18,6 +18,7 @@ ProgressCallback = Callable[[str, int, int], Optional[bool]]
 Operation = Literal["union", "intersection", "difference", "xor"]
 Winding = Literal["nonzero", "positive"]
 FaceMode = Literal["triangles", "polygons", "quads"]
+Precision = Literal["f64", "f32"]
 
 class Mesh:
     """A polygon mesh with float64 vertices, as every csgkit operation takes and returns it.
@@ -80,6 +81,7 @@ def boolean(
     manifold: bool = False,
     merge_coplanar: bool = False,
     simplify: Optional[float] = None,
+    precision: Precision = "f64",
     progress: Optional[ProgressCallback] = None,
 ) -> Mesh: ...
 class _Operation(Protocol):
@@ -94,6 +96,7 @@ class _Operation(Protocol):
         manifold: bool = False,
         merge_coplanar: bool = False,
         simplify: Optional[float] = None,
+        precision: Precision = "f64",
         progress: Optional[ProgressCallback] = None,
     ) -> Mesh: ...
 

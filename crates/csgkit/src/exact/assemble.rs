@@ -32,7 +32,7 @@ use crate::par::*;
 use smallvec::SmallVec;
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, compare_along, orient3d, round_point_with_offsets, step_by,
+    Axis, Point, Point3, Precision, Sign, compare_along, orient3d, round_point_with_offsets,
 };
 use crate::mesh::vector::{cross, dot, sub};
 use crate::mesh::{Mesh, MeshParts};
@@ -41,19 +41,25 @@ use super::ingest::Input;
 use super::reconstruct::Reconstructed;
 use super::subdivide::Arrangement;
 
-/// The output mesh in f64, and which of its vertices need checking.
+/// The output mesh in its precision, and which of its vertices need checking.
 pub(crate) struct Rounded {
     pub mesh: Mesh,
-    /// Per vertex: an intersection point rounded to f64 (the only vertices where the f64 mesh
-    /// may differ from the exact result; the triangles reconstruct made tile the exact result
-    /// too).
+    /// Per vertex: moved by rounding, an intersection point or (in f32) an input vertex that
+    /// is not an f32 number (the only vertices where the rounded mesh may differ from the
+    /// exact result; the triangles reconstruct made tile the exact result too).
     pub moved: Vec<bool>,
-    /// How many vertices are intersection points rounded to f64.
+    /// How many vertices rounding moved.
     pub rounded: usize,
 }
 
-/// The mesh of the reconstructed triangles, with its rounded vertices marked.
-pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -> Rounded {
+/// The mesh of the reconstructed triangles with coordinates of `precision`, its rounded
+/// vertices marked.
+pub(crate) fn assemble(
+    input: &Input,
+    arr: &Arrangement,
+    faces: Reconstructed,
+    precision: Precision,
+) -> Rounded {
     // Used vertices keep their relative order (input vertices, then intersection points), so
     // the numbering is deterministic and every step but the marking runs in parallel.
     let mut new_id = vec![u32::MAX; arr.vertex_count(input)];
@@ -91,8 +97,12 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
             *slot += 1;
         }
     }
-    // An intersection point the split stage simplified to an explicit one is exact: only the
-    // others move.
+    let grid = Grid {
+        precision,
+        scale: input.scale,
+    };
+    // An intersection point the split stage simplified to an explicit one is exact: in f64,
+    // only the others move.
     let (positions, moved): (Vec<[f64; 3]>, Vec<bool>) = (used.par_iter().enumerate())
         .map(|(i, &v)| {
             let point = arr.point(input, v);
@@ -103,8 +113,12 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
                     planes.push(input.triangle_positions(t as usize));
                 }
             }
-            let position = round_inward(&point, &planes).map(|x| x * unscale);
-            (position, !point.is_explicit())
+            let rounded = round_inward(&point, &planes, &grid);
+            let moved = match &point {
+                Point::Explicit(exact) => rounded != *exact,
+                _ => true,
+            };
+            (rounded.map(|x| x * unscale), moved)
         })
         .unzip();
     let rounded = moved.iter().filter(|&&m| m).count();
@@ -125,38 +139,68 @@ pub(crate) fn assemble(input: &Input, arr: &Arrangement, faces: Reconstructed) -
     }
 }
 
-/// `point` rounded to f64: the nearest point if it lies on or behind every one of `planes`
-/// (triangles through `point`, outward normals by their corners' order), else the first of
-/// the f64 points up to [`INWARD_STEPS`] steps from it per coordinate, in [`INWARD_ORDER`],
-/// that does, else the nearest (see the module docs); the points the f64 screen below passes
-/// come first, so a nearest point the screen takes for in front by less than its error
-/// yields to another that is behind. A coordinate `point` has exactly as an
-/// f64 is kept, and none becomes newly subnormal: a step from 0 to ±5e-324 changes no shape a
-/// reader can see, and readers whose predicates underflow there (Shewchuk's) take the faces
-/// around for flat.
+/// The numbers of the output's precision in the ingest's scaled coordinates: the scale is
+/// an exact power of two, so a number of the precision, scaled, is one after scaling back.
+struct Grid {
+    precision: Precision,
+    scale: f64,
+}
+
+impl Grid {
+    /// See [`Precision::nearest`].
+    fn nearest(&self, x: f64, exact_side: Sign) -> f64 {
+        (self.precision).nearest(x / self.scale, exact_side) * self.scale
+    }
+
+    /// See [`Precision::step_by`].
+    fn step_by(&self, x: f64, steps: i32) -> f64 {
+        self.precision.step_by(x / self.scale, steps) * self.scale
+    }
+
+    /// See [`Precision::is_subnormal`].
+    fn is_subnormal(&self, x: f64) -> bool {
+        self.precision.is_subnormal(x / self.scale)
+    }
+}
+
+/// `point` rounded to `grid`: the nearest point if it lies on or behind every one of
+/// `planes` (triangles through `point`, outward normals by their corners' order), else the
+/// first of the grid's points up to [`INWARD_STEPS`] steps from it per coordinate, in
+/// [`INWARD_ORDER`], that does, else the nearest (see the module docs); the points the f64
+/// screen below passes come first, so a nearest point the screen takes for in front by less
+/// than its error yields to another that is behind. A coordinate `point` has exactly as a
+/// number of the grid is kept, and none becomes newly subnormal: a step from 0 to ±5e-324
+/// changes no shape a reader can see, and readers whose predicates underflow there
+/// (Shewchuk's) take the faces around for flat. An input vertex goes to the nearest point.
 ///
 /// Every candidate is within an ulp or two of every plane, where `orient3d`'s filter cannot
 /// decide and its exact stages run: the candidates are screened first in f64, by the planes'
 /// normals against the candidate's offset from `point` (the rounding's offset, from
 /// double-doubles, plus its steps), and only those the screen passes are tested exactly, then
 /// the others if none of those is behind.
-fn round_inward(point: &Point, planes: &[[Point3; 3]]) -> Point3 {
+fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
     if let Point::Explicit(exact) = point {
-        return *exact;
+        return exact.map(|x| grid.nearest(x, Sign::Zero));
     }
     let behind =
         |q: Point3| (planes.iter()).all(|&[a, b, c]| orient3d(a, b, c, q) != Sign::Negative);
-    let (nearest, offsets) = round_point_with_offsets(point);
-    // Per coordinate, the exact value minus the nearest: from double-doubles, or its sign
+    let (nearest_f64, offsets) = round_point_with_offsets(point);
+    // Per coordinate, the exact value minus the nearest f64: from double-doubles, or its sign
     // exactly where they cannot tell (0: the value is that f64).
-    let at_nearest = Point::Explicit(nearest);
-    let offset = [Axis::X, Axis::Y, Axis::Z].map(|axis| {
+    let at_nearest = Point::Explicit(nearest_f64);
+    let offset_f64 = [Axis::X, Axis::Y, Axis::Z].map(|axis| {
         offsets[axis.index()].unwrap_or_else(|| match compare_along(point, &at_nearest, axis) {
             std::cmp::Ordering::Less => -f64::MIN_POSITIVE,
             std::cmp::Ordering::Greater => f64::MIN_POSITIVE,
             std::cmp::Ordering::Equal => 0.0,
         })
     });
+    // The nearest point of the grid, and the exact value minus it, with its sign certain: in
+    // f32 the two nearest points differ by at least an f64 ulp, which outweighs the f64
+    // offset (an f64 step placeholder included), or they are one point.
+    let nearest: Point3 =
+        std::array::from_fn(|k| grid.nearest(nearest_f64[k], Sign::of(offset_f64[k])));
+    let offset: [f64; 3] = std::array::from_fn(|k| (nearest_f64[k] - nearest[k]) + offset_f64[k]);
     let normals: SmallVec<[Point3; 6]> = (planes.iter())
         .map(|&[a, b, c]| cross(sub(b, a), sub(c, a)))
         .collect();
@@ -172,8 +216,8 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]]) -> Point3 {
                 return None;
             }
             // Towards the exact value is up where it lies above the nearest.
-            q[k] = step_by(q[k], if offset[k] > 0.0 { steps[k] } else { -steps[k] });
-            if q[k].is_subnormal() && !nearest[k].is_subnormal() {
+            q[k] = grid.step_by(q[k], if offset[k] > 0.0 { steps[k] } else { -steps[k] });
+            if !q[k].is_finite() || (grid.is_subnormal(q[k]) && !grid.is_subnormal(nearest[k])) {
                 return None;
             }
         }
@@ -228,39 +272,60 @@ mod tests {
         Point::lpi(p, q, plane[0], plane[1], plane[2]).expect("the line crosses the plane")
     }
 
+    /// Rounding in `precision`, unscaled.
+    fn grid(precision: Precision) -> Grid {
+        Grid {
+            precision,
+            scale: 1.0,
+        }
+    }
+
     #[test]
     fn a_point_rounds_behind_its_planes_within_its_cell() {
-        // A tilted plane, and lines across it at many places: whichever way the nearest f64
-        // point falls, the rounding is on or behind the plane and within the cell around it.
+        // A tilted plane, and lines across it at many places: whichever way the nearest point
+        // of either precision falls, the rounding is on or behind the plane and within the
+        // cell around the exact point (checked in rationals).
+        use crate::kernel::oracle::{oracle_point, q};
         let plane = [[0.0, 0.0, 0.1], [1.0, 0.1, 0.3], [0.2, 1.0, 0.7]];
         let behind = |q: Point3| orient3d(plane[0], plane[1], plane[2], q) != Sign::Negative;
-        let mut nearest_in_front = 0;
-        for i in 0..200 {
-            let t = f64::from(i) / 200.0;
-            let point = crossing([t, 0.3 * t, -1.0], [0.7 - t, t, 2.0], plane);
-            let nearest = round_point(&point);
-            nearest_in_front += usize::from(!behind(nearest));
-            let rounded = round_inward(&point, &[plane]);
-            assert!(behind(rounded), "{rounded:?} is in front of the plane");
-            let (_, offsets) = round_point_with_offsets(&point);
-            for k in 0..3 {
-                // The exact coordinate lies between the nearest and the rounding, or the
-                // rounding is the nearest.
-                let exact_side = offsets[k].map(Sign::of);
-                let moved = Sign::of(rounded[k] - nearest[k]);
-                assert!(
-                    moved == Sign::Zero
-                        || (exact_side == Some(moved)
-                            && (rounded[k] == step_by(nearest[k], 1)
-                                || rounded[k] == step_by(nearest[k], -1))),
-                    "{rounded:?} is outside the cell of {nearest:?}"
-                );
+        for precision in [Precision::F64, Precision::F32] {
+            let grid = grid(precision);
+            let mut nearest_in_front = 0;
+            for i in 0..200 {
+                let t = f64::from(i) / 200.0;
+                let point = crossing([t, 0.3 * t, -1.0], [0.7 - t, t, 2.0], plane);
+                let exact = oracle_point(&point);
+                let rounded = round_inward(&point, &[plane], &grid);
+                assert!(behind(rounded), "{rounded:?} is in front of the plane");
+                let mut nearest = rounded;
+                for k in 0..3 {
+                    assert!(
+                        precision.holds(rounded[k]),
+                        "{} is not {precision}",
+                        rounded[k]
+                    );
+                    // The exact coordinate lies between the rounding and its neighbour on
+                    // the exact side, and the nearer of the two is the nearest.
+                    let x = &exact[k];
+                    let (down, up) = (grid.step_by(rounded[k], -1), grid.step_by(rounded[k], 1));
+                    let (low, high) = if *x >= q(rounded[k]) {
+                        (rounded[k], up)
+                    } else {
+                        (down, rounded[k])
+                    };
+                    assert!(
+                        q(low) <= *x && *x <= q(high),
+                        "{rounded:?} is outside the cell"
+                    );
+                    nearest[k] = if x - q(low) <= q(high) - x { low } else { high };
+                }
+                nearest_in_front += usize::from(!behind(nearest));
             }
+            assert!(
+                nearest_in_front > 10,
+                "in {precision}, the nearest point falls in front often: {nearest_in_front}"
+            );
         }
-        assert!(
-            nearest_in_front > 10,
-            "the nearest point falls in front often: {nearest_in_front}"
-        );
     }
 
     #[test]
@@ -274,7 +339,7 @@ mod tests {
         assert_eq!(nearest[2], 0.5);
         let mut moved = 0;
         for tilted in [[p, q, [0.9, 0.1, 0.3]], [q, p, [0.9, 0.1, 0.3]]] {
-            let rounded = round_inward(&point, &[axis_plane, tilted]);
+            let rounded = round_inward(&point, &[axis_plane, tilted], &grid(Precision::F64));
             assert_eq!(rounded[2], 0.5);
             assert_ne!(
                 orient3d(tilted[0], tilted[1], tilted[2], rounded),

@@ -2,7 +2,7 @@
 //! order and times each one.
 
 use crate::Operation;
-use crate::kernel::Point3;
+use crate::kernel::{Point3, Precision};
 use crate::mesh::{FaceMode, Mesh};
 use crate::par;
 use crate::progress::{Cancelled, Progress, Stage, StageClock};
@@ -44,6 +44,11 @@ pub struct BooleanOptions {
     /// at most this distance per removal; the result is certified as always. For chains of
     /// booleans through files, whose rounded faces are flat only to within an ulp.
     pub simplify: Option<f64>,
+    /// The numbers the result's coordinates are written in: f64, or f32 for a file that
+    /// stores f32 (binary STL, glTF), where rounding an f64 result afterwards can make its
+    /// faces cross. The result is rounded to these numbers and certified in them; every
+    /// operand coordinate must then lie in the f32 range.
+    pub precision: Precision,
 }
 
 impl Default for BooleanOptions {
@@ -55,6 +60,7 @@ impl Default for BooleanOptions {
             faces: FaceMode::Triangles,
             merge_coplanar: false,
             simplify: None,
+            precision: Precision::F64,
         }
     }
 }
@@ -88,7 +94,8 @@ pub struct BooleanStats {
     /// two faces or inside one (reconstruct), and with `simplify`, vertices only faces flat
     /// to within its tolerance needed.
     pub removed_vertices: usize,
-    /// Output vertices that are intersection points rounded to f64.
+    /// Output vertices rounding moved: intersection points, and in f32, input vertices that
+    /// are not f32 numbers.
     pub rounded_vertices: usize,
     /// Output vertices moved to a coarser grid because rounding made faces cross or
     /// collapse (0 almost always; see the certify stage).
@@ -141,15 +148,17 @@ pub enum BooleanError {
     /// An operand is not a closed, outward solid of finite coordinates.
     #[error(transparent)]
     InvalidOperand(#[from] InvalidOperand),
-    /// Rounding the result to f64 made faces cross or collapse, and snapping their vertices
-    /// to the coarsest grid allowed did not repair it; nothing was produced.
+    /// Rounding the result to its precision made faces cross or collapse, and snapping their
+    /// vertices to the coarsest grid allowed did not repair it; nothing was produced.
     ///
-    /// *What to try*: report the input; the exact result exists but has no f64 form within
-    /// the certified displacement bound.
+    /// *What to try*: report the input; the exact result exists but has no form in that
+    /// precision within the certified displacement bound.
     #[error(
-        "the result could not be written in f64 without {crossing_pairs} crossing face pairs and {degenerate_faces} degenerate faces"
+        "the result could not be written in {precision} without {crossing_pairs} crossing face pairs and {degenerate_faces} degenerate faces"
     )]
     NotCertified {
+        /// The precision asked for ([`BooleanOptions::precision`]).
+        precision: Precision,
         /// Crossing face pairs left.
         crossing_pairs: usize,
         /// Degenerate faces left.
@@ -233,10 +242,29 @@ pub fn boolean_expression(
             operands.len()
         )));
     }
+    if options.precision == Precision::F32 {
+        check_f32_range(operands)?;
+    }
     let faces = operands.iter().map(|mesh| mesh.face_count()).sum();
     par::on_pool_or_inline(faces, || {
         run_expression(expression, operands, options, progress)
     })
+}
+
+/// Refuses an operand with a coordinate that rounds to an infinite f32, which no f32 result
+/// can hold (intersection points lie between the operands' vertices, so those are the only
+/// ones).
+fn check_f32_range(operands: &[&Mesh]) -> Result<(), BooleanError> {
+    for (k, mesh) in operands.iter().enumerate() {
+        let outside = (mesh.positions().iter().enumerate())
+            .find(|(_, p)| p.iter().any(|&x| (x as f32).is_infinite()));
+        if let Some((v, p)) = outside {
+            return Err(BooleanError::Unsupported(format!(
+                "operand {k}, vertex {v} ({p:?}) lies beyond the f32 range, so the result cannot be written in f32"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// [`boolean_expression`] on a worker thread of the pool.
@@ -264,31 +292,34 @@ fn run_expression(
     let refine_options = BooleanOptions {
         check_self_intersections: true,
         winding: WindingRule::Positive,
+        precision: options.precision,
         ..BooleanOptions::default()
     };
     let silent = progress.silent();
-    let (mesh, certificate) = certify::certify(rounded, progress, |soup, suspects| {
-        exact_result(
-            &Expression::of(Operation::Union, 1),
-            &[soup],
-            &refine_options,
-            Some(suspects),
-            &mut BooleanStats::default(),
-            &mut StageClock::new(&silent),
-            &silent,
-        )
-        .ok()
-    })
-    .map_err(|error| match error {
-        CertifyError::NotCertified {
-            crossing_pairs,
-            degenerate_faces,
-        } => BooleanError::NotCertified {
-            crossing_pairs,
-            degenerate_faces,
-        },
-        CertifyError::Cancelled(cancelled) => cancelled.into(),
-    })?;
+    let (mesh, certificate) =
+        certify::certify(rounded, options.precision, progress, |soup, suspects| {
+            exact_result(
+                &Expression::of(Operation::Union, 1),
+                &[soup],
+                &refine_options,
+                Some(suspects),
+                &mut BooleanStats::default(),
+                &mut StageClock::new(&silent),
+                &silent,
+            )
+            .ok()
+        })
+        .map_err(|error| match error {
+            CertifyError::NotCertified {
+                crossing_pairs,
+                degenerate_faces,
+            } => BooleanError::NotCertified {
+                precision: options.precision,
+                crossing_pairs,
+                degenerate_faces,
+            },
+            CertifyError::Cancelled(cancelled) => cancelled.into(),
+        })?;
     stats.rounded_vertices = certificate.rounded_vertices;
     stats.snapped_vertices = certificate.snapped_vertices;
     stats.max_snap_displacement = certificate.max_snap_displacement;
@@ -319,7 +350,8 @@ impl From<StageError> for BooleanError {
     }
 }
 
-/// The stages from ingest to assemble: the exact result, rounded to f64 once. With
+/// The stages from ingest to assemble: the exact result, rounded once to the options'
+/// precision. With
 /// `suspects` (a re-refinement in certification), the self-intersection check looks only at
 /// triangles with a vertex at one of those positions (the rest is known to be free of
 /// crossings), and no vertex is removed (certification snaps every new vertex).
@@ -423,7 +455,7 @@ fn exact_result(
     );
     stats.removed_vertices = faces.removed_vertices;
     clock.end(Stage::Reconstruct)?;
-    let rounded = assemble::assemble(&input, &arrangement, faces);
+    let rounded = assemble::assemble(&input, &arrangement, faces, options.precision);
     clock.end(Stage::Assemble)?;
     Ok(rounded)
 }

@@ -68,6 +68,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 pub use error::{Location, ParseError, ReadError, WriteError};
 
+use crate::kernel::Precision;
 use crate::mesh::{Mesh, concatenate};
 
 /// A mesh file format.
@@ -431,20 +432,29 @@ pub fn write_mesh_to_bytes(
     Ok(out)
 }
 
+impl Format {
+    /// The numbers this format stores coordinates in with `encoding`: f32 in glTF, GLB and
+    /// binary STL, f64 (shortest round-trip decimals, or doubles) in the others. A boolean
+    /// whose result goes to such a file is certified in that precision
+    /// ([`BooleanOptions::precision`](crate::exact::BooleanOptions::precision)).
+    pub fn precision(self, encoding: Encoding) -> Precision {
+        match self {
+            Format::Gltf | Format::Glb => Precision::F32,
+            Format::Stl if encoding == Encoding::Binary => Precision::F32,
+            Format::Stl | Format::Obj | Format::Ply | Format::Off | Format::ThreeMf => {
+                Precision::F64
+            }
+        }
+    }
+}
+
 /// How many coordinates of `mesh` writing it in `format` and `encoding` rounds: those that
-/// are not f32 numbers, for the formats that store f32 (glTF, GLB and binary STL); zero for
+/// are not numbers of its [`Format::precision`] (f32 in glTF, GLB and binary STL); zero for
 /// the others.
 pub fn rounded_coordinates(mesh: &Mesh, format: Format, encoding: Encoding) -> usize {
-    let f32_storage = match format {
-        Format::Gltf | Format::Glb => true,
-        Format::Stl => encoding == Encoding::Binary,
-        Format::Obj | Format::Ply | Format::Off | Format::ThreeMf => false,
-    };
-    if !f32_storage {
-        return 0;
-    }
+    let precision = format.precision(encoding);
     (mesh.positions().iter().flatten())
-        .filter(|&&c| f64::from(c as f32) != c)
+        .filter(|&&c| !precision.holds(c))
         .count()
 }
 

@@ -57,6 +57,24 @@ pub(crate) fn next_down(x: f64) -> f64 {
     -next_up(-x)
 }
 
+/// The next f32 above `x`, as [`next_up`] for f64 (`f32::next_up` is newer than the crate's
+/// minimum Rust version).
+pub(crate) fn next_up_f32(x: f32) -> f32 {
+    if x.is_nan() || x == f32::INFINITY {
+        return x;
+    }
+    let bits = x.to_bits();
+    if bits << 1 == 0 {
+        return f32::from_bits(1);
+    }
+    f32::from_bits(if x > 0.0 { bits + 1 } else { bits - 1 })
+}
+
+/// The next f32 below `x`.
+pub(crate) fn next_down_f32(x: f32) -> f32 {
+    -next_up_f32(-x)
+}
+
 /// `x` moved by `steps` f64 steps, up when positive: the f64 points around an output vertex
 /// that rounding and certification choose among.
 pub(crate) fn step_by(x: f64, steps: i32) -> f64 {

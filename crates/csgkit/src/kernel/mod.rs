@@ -101,7 +101,8 @@
 //!   coordinate differences);
 //! - `orient.rs`: [`orient2d`] and [`orient3d`], `robust` first and the cascade outside its
 //!   range; `predicates.rs`: the predicates on mixed points, which use them for explicit
-//!   arguments; `rounding.rs`: the nearest f64 point, for output.
+//!   arguments; `rounding.rs`: the nearest f64 point, for output, and the [`Precision`] an
+//!   output is written in.
 //!
 //! Cost (see `benches/README.md`): the filter answers a random LPI-against-plane query in
 //! about 100–200 ns, the exact stages a degenerate one in a few microseconds (expansions) to
@@ -141,7 +142,6 @@ pub(crate) mod oracle;
 pub(crate) mod tests;
 
 pub use implicit::{Lpi, Point, Point3, Tpi};
-pub(crate) use interval::step_by;
 pub(crate) use orient::{
     PlaneFilter, incircle_value_if_clear, normal_component_is_zero, orient2d_filterable,
     orient2d_value_if_clear,
@@ -151,7 +151,7 @@ pub use predicates::{
     compare_along, compare_lex, orient2d_projected, orient2d_projected_if_clear,
     orient2d_projected_or_collinear, orient3d_plane, orient3d_points, same_point,
 };
-pub use rounding::simplify;
+pub use rounding::{Precision, simplify};
 pub(crate) use rounding::{round_point, round_point_with_offsets};
 
 /// The sign of an exact quantity.

@@ -26,7 +26,103 @@ use super::arith::{Big, Fixed, decompose};
 use super::cascade::Homogeneous;
 use super::double_double::DoubleDouble;
 use super::implicit::{Point, Point3};
-use super::interval::{next_down, next_up};
+use super::interval::{next_down, next_down_f32, next_up, next_up_f32, step_by};
+
+/// The floating-point numbers a result's coordinates are written in: f64, or f32 for the
+/// formats that store f32 (binary STL, glTF). The exact engine rounds its result to these
+/// numbers and certifies it there, so a writer stores the very coordinates that were
+/// certified: an f64 result rounded to f32 afterwards can cross itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Precision {
+    /// 64-bit floats: OBJ, PLY, OFF, 3MF and ASCII STL (shortest round-trip decimals), and
+    /// the meshes of the library and the bindings.
+    #[default]
+    F64,
+    /// 32-bit floats: binary STL, glTF and GLB.
+    F32,
+}
+
+impl Precision {
+    /// Bits of the significand after the point: `ulp(x) = 2^(e - fraction_bits)` for a
+    /// normal `x` in `[2^e, 2^(e+1))`.
+    pub fn fraction_bits(self) -> i32 {
+        match self {
+            Precision::F64 => 52,
+            Precision::F32 => 23,
+        }
+    }
+
+    /// Whether `x` is a number of this precision, so writing it loses nothing.
+    pub fn holds(self, x: f64) -> bool {
+        match self {
+            Precision::F64 => true,
+            Precision::F32 => f64::from(x as f32) == x,
+        }
+    }
+
+    /// The number of this precision nearest the exact value that `x` is the nearest f64 to,
+    /// where the exact value lies on side `exact_side` of `x` (the sign of exact − `x`): an
+    /// `x` halfway between two f32 numbers goes to the one on the exact value's side, so
+    /// rounding first to f64, then to f32, still gives the nearest f32 (ties, where the exact
+    /// value is `x`, to even).
+    pub(crate) fn nearest(self, x: f64, exact_side: Sign) -> f64 {
+        match self {
+            Precision::F64 => x,
+            Precision::F32 => {
+                let single = x as f32;
+                let rounded = f64::from(single);
+                if rounded == x || exact_side == Sign::Zero || !rounded.is_finite() {
+                    return rounded;
+                }
+                let other = if rounded < x {
+                    next_up_f32(single)
+                } else {
+                    next_down_f32(single)
+                };
+                // Both differences are exact: the three numbers are within an f32 ulp.
+                let (to_rounded, to_other) = ((x - rounded).abs(), (f64::from(other) - x).abs());
+                let other_side = Sign::of(f64::from(other) - x);
+                if to_rounded == to_other && other_side == exact_side {
+                    f64::from(other)
+                } else {
+                    rounded
+                }
+            }
+        }
+    }
+
+    /// `x`, a number of this precision, moved by `steps` of its neighbours, up when positive.
+    pub(crate) fn step_by(self, x: f64, steps: i32) -> f64 {
+        match self {
+            Precision::F64 => step_by(x, steps),
+            Precision::F32 => {
+                let step = if steps > 0 {
+                    next_up_f32
+                } else {
+                    next_down_f32
+                };
+                f64::from((0..steps.unsigned_abs()).fold(x as f32, |x, _| step(x)))
+            }
+        }
+    }
+
+    /// Whether `x` is subnormal as a number of this precision.
+    pub(crate) fn is_subnormal(self, x: f64) -> bool {
+        match self {
+            Precision::F64 => x.is_subnormal(),
+            Precision::F32 => (x as f32).is_subnormal(),
+        }
+    }
+}
+
+impl std::fmt::Display for Precision {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Precision::F64 => "f64",
+            Precision::F32 => "f32",
+        })
+    }
+}
 
 /// [`round_point`], and per coordinate the exact value minus that rounding, approximately
 /// but with its sign certain, where double-doubles decide the sign (`None` where they cannot:

@@ -911,3 +911,36 @@ fn a_crossing_of_an_edge_in_a_plane_is_on_it() {
     assert_ne!(want, Sign::Zero);
     assert_eq!(orient3d_plane(a, b, c, &y), want);
 }
+
+#[test]
+fn f32_rounding_of_an_f64_breaks_ties_by_the_exact_side() {
+    use super::Precision;
+    let single = Precision::F32;
+    use super::interval::{next_down_f32, next_up_f32};
+    let (low, high) = (1.0f32, next_up_f32(1.0));
+    // An f64 halfway between two f32 numbers: the nearest f64 to exact values on either side.
+    let midpoint = (f64::from(low) + f64::from(high)) / 2.0;
+    assert_eq!(single.nearest(midpoint, Sign::Positive), f64::from(high));
+    assert_eq!(single.nearest(midpoint, Sign::Negative), f64::from(low));
+    assert_eq!(
+        single.nearest(midpoint, Sign::Zero),
+        f64::from(low),
+        "ties to even"
+    );
+    assert_eq!(single.nearest(-midpoint, Sign::Negative), -f64::from(high));
+    // Off the midpoint, the side does not matter; in f64, nothing moves.
+    let above = super::interval::step_by(midpoint, 1);
+    assert_eq!(single.nearest(above, Sign::Negative), f64::from(high));
+    assert_eq!(Precision::F64.nearest(above, Sign::Negative), above);
+    assert_eq!(single.step_by(1.0, 2), f64::from(next_up_f32(high)));
+    assert_eq!(single.step_by(1.0, -1), f64::from(next_down_f32(1.0)));
+    assert_eq!(next_up_f32(-0.0), f32::from_bits(1));
+    assert_eq!(next_down_f32(f32::from_bits(1)), 0.0);
+    assert_eq!(
+        next_up_f32(-f32::MIN_POSITIVE),
+        -f32::from_bits(0x007f_ffff)
+    );
+    assert!(single.is_subnormal(f64::from(f32::MIN_POSITIVE) / 2.0));
+    assert!(!Precision::F64.is_subnormal(f64::from(f32::MIN_POSITIVE) / 2.0));
+    assert!(single.holds(0.5) && !single.holds(0.1) && Precision::F64.holds(0.1));
+}

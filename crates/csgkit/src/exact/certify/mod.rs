@@ -1,5 +1,5 @@
-//! The **certify** stage: the result as f64 numbers is a valid solid, so it is a valid operand
-//! of the next boolean.
+//! The **certify** stage: the result as f64 numbers (or f32, its [`Precision`]) is a valid
+//! solid, so it is a valid operand of the next boolean.
 //!
 //! # Contract
 //! In: the [`Rounded`] mesh of the assemble stage (exact except at the intersection points it
@@ -17,6 +17,9 @@
 //! coordinate stays within `2^-27 · M` of the exact result. Removing a sliver moves the
 //! surface by less than the tolerance it was found with, at most `2^MAX_SNAP_LEVEL` ulps of
 //! `M`; a removed thin shell bounds less than its area times `2^THIN_SHELL_LEVEL` ulps of `M`.
+//! Ulps are those of the result's [`Precision`]: in f32 (a result for binary STL or glTF) every
+//! input vertex is rounded to the nearest f32 too, and the coarsest grid is
+//! `2^MAX_SNAP_LEVEL_F32` f32 ulps, so every coordinate stays within `2^-14 · M`.
 //! If that is not enough, the stage fails with [`CertifyError::NotCertified`] rather than
 //! return an invalid mesh.
 //!
@@ -69,7 +72,7 @@ use crate::par::*;
 use rustc_hash::FxHashMap;
 
 use crate::index::{Aabb, Bvh, Occupancy};
-use crate::kernel::{Point3, step_by};
+use crate::kernel::{Point3, Precision};
 use crate::mesh::union_find::UnionFind;
 use crate::mesh::vector::{cross, dot, norm, sub};
 use crate::mesh::{Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_positions};
@@ -129,24 +132,42 @@ const MAX_REFINEMENTS: usize = 8;
 /// Rounds of snapping and re-refinement on one grid before a coarser one is tried.
 pub(crate) const ROUNDS_PER_LEVEL: usize = 3;
 
-/// The coarsest snap grid: multiples of `2^MAX_SNAP_LEVEL` ulps of the largest coordinate
-/// magnitude (with a 53-bit significand, steps of `2^(MAX_SNAP_LEVEL − 52)` of it).
+/// The coarsest snap grid in f64: multiples of `2^MAX_SNAP_LEVEL` ulps of the largest
+/// coordinate magnitude `M` (with a 53-bit significand, steps of `2^(MAX_SNAP_LEVEL − 52)` of
+/// it, `2^-28 · M`).
 pub(crate) const MAX_SNAP_LEVEL: i32 = 24;
 
-/// The tolerances of sliver removal, in ulps of the largest coordinate magnitude (as
+/// The coarsest snap grid in f32, in f32 ulps of `M`: `2^(MAX_SNAP_LEVEL_F32 − 23) · M`,
+/// `2^-15 · M` (3 µm on a part of 100 mm, where an f32 ulp is 8 nm), where the f64 levels
+/// would reach `2 · M`.
+const MAX_SNAP_LEVEL_F32: i32 = 8;
+
+/// The tolerances of sliver removal in f64, in ulps of the largest coordinate magnitude (as
 /// `log2`), tried in order until one removes something: sides and heights far below an ulp
 /// first, up to the coarsest snap grid.
 const SLIVER_LEVELS: [i32; 4] = [2, 10, 18, MAX_SNAP_LEVEL];
+
+/// [`SLIVER_LEVELS`] in f32, up to its coarsest snap grid.
+const SLIVER_LEVELS_F32: [i32; 4] = [2, 4, 6, MAX_SNAP_LEVEL_F32];
 
 /// The mean thickness below which a shell with a problem is removed whole, in ulps of the
 /// largest coordinate magnitude (as `log2`): the first tolerance of sliver removal, a few
 /// ulps, above the error of the f64 volume it is measured by.
 const THIN_SHELL_LEVEL: i32 = SLIVER_LEVELS[0];
 
+/// The coarsest snap grid and the sliver tolerances of `precision`, in its ulps of `M`.
+fn levels(precision: Precision) -> (i32, [i32; 4]) {
+    match precision {
+        Precision::F64 => (MAX_SNAP_LEVEL, SLIVER_LEVELS),
+        Precision::F32 => (MAX_SNAP_LEVEL_F32, SLIVER_LEVELS_F32),
+    }
+}
+
 /// What certification did, for the statistics.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Certificate {
-    /// Vertices rounding moved in the output (intersection points not representable in f64).
+    /// Vertices rounding moved in the output (intersection points not representable in its
+    /// precision, and in f32, input vertices that are not f32 numbers).
     pub rounded_vertices: usize,
     /// Vertex moves to a coarser grid that removing crossings and degenerate faces took (a
     /// vertex moved in two rounds counts twice).
@@ -231,12 +252,13 @@ impl CertifyError {
 /// re-refinement is retried on a coarser grid); [`CertifyError::Cancelled`].
 pub(crate) fn certify(
     rounded: Rounded,
+    precision: Precision,
     progress: &Progress,
     re_refine: impl FnMut(&Mesh, &[Point3]) -> Option<Rounded>,
 ) -> Result<(Mesh, Certificate), CertifyError> {
     // Units: rounds, of at most MAX_ITERATIONS; almost always one.
     let counter = progress.counter(Stage::Certify, MAX_ITERATIONS);
-    let certified = certify_rounds(rounded, &counter, re_refine)?;
+    let certified = certify_rounds(rounded, precision, &counter, re_refine)?;
     counter.finish()?;
     Ok(certified)
 }
@@ -244,6 +266,7 @@ pub(crate) fn certify(
 /// The rounds of [`certify`]: steps 1–6 until no problem is left.
 fn certify_rounds(
     rounded: Rounded,
+    precision: Precision,
     counter: &Counter,
     mut re_refine: impl FnMut(&Mesh, &[Point3]) -> Option<Rounded>,
 ) -> Result<(Mesh, Certificate), CertifyError> {
@@ -256,6 +279,7 @@ fn certify_rounds(
         mut moved,
         ..
     } = rounded;
+    let (max_snap_level, sliver_levels) = levels(precision);
     let mut level = 0;
     let mut rounds_at_level = 0;
     let work = std::cell::Cell::new(0u64);
@@ -289,7 +313,7 @@ fn certify_rounds(
         let (shells, faces) = thin_shells(
             &mesh,
             &problems.to_snap,
-            grid_step(mesh.positions(), THIN_SHELL_LEVEL),
+            grid_step(mesh.positions(), THIN_SHELL_LEVEL, precision),
         );
         if shells > 0 {
             certificate.removed_shells += shells;
@@ -299,7 +323,8 @@ fn certify_rounds(
         // Each successful re-rounding clears the faces of one vertex and breaks none, so
         // this repeats only while it helps.
         let progress = REROUND_PASSES.iter().find_map(|pass| {
-            let (count, displacement) = reround(&mut mesh, pass, &moved, &problems, &work);
+            let (count, displacement) =
+                reround(&mut mesh, pass, precision, &moved, &problems, &work);
             (count > 0).then_some((count, displacement))
         });
         if let Some((count, displacement)) = progress {
@@ -308,7 +333,7 @@ fn certify_rounds(
         }
         // Faces thinner than the f64 grid fold whatever their corners' rounding: they go.
         let diagonal = diagonal_of(mesh.positions());
-        let tolerances = SLIVER_LEVELS.map(|level| grid_step(mesh.positions(), level));
+        let tolerances = sliver_levels.map(|level| grid_step(mesh.positions(), level, precision));
         let done = slivers::dissolve(&mut mesh, &mut moved, &problems.to_snap, &tolerances);
         if done.changes > 0 {
             certificate.dissolved_slivers += done.changes;
@@ -327,7 +352,7 @@ fn certify_rounds(
                 level += SNAP_LEVEL_STEP;
                 rounds_at_level = 0;
             }
-            if level > MAX_SNAP_LEVEL {
+            if level > max_snap_level {
                 return Err(CertifyError::not_certified(&problems));
             }
             rounds_at_level += 1;
@@ -336,7 +361,7 @@ fn certify_rounds(
                 // a face between a snapped and an unsnapped vertex tilts, and crosses its
                 // nearly coplanar neighbours.
                 snapped = neighbourhood_vertices(&soup, &problems.to_snap);
-                let displacement = snap(&mut soup, &snapped, level);
+                let displacement = snap(&mut soup, &snapped, level, precision);
                 certificate.record_snap(snapped.len(), displacement);
             }
         }
@@ -373,7 +398,7 @@ fn certify_rounds(
                 .filter(|&(_, &m)| m)
                 .map(|(v, _)| v as u32)
                 .collect();
-            let displacement = snap(&mut mesh, &new_points, level);
+            let displacement = snap(&mut mesh, &new_points, level, precision);
             certificate.record_snap(new_points.len(), displacement);
         }
     }
@@ -573,6 +598,7 @@ fn problems_among(
 fn reround(
     mesh: &mut Mesh,
     pass: &Reround,
+    precision: Precision,
     moved: &[bool],
     problems: &Problems,
     work: &std::cell::Cell<u64>,
@@ -596,9 +622,8 @@ fn reround(
             }
         }
     }
-    let largest = (positions.iter().flatten()).fold(0.0f64, |m, x| m.max(x.abs()));
     // Two ulps of the largest coordinate: more than any candidate moves a face's box.
-    let margin = 2.0 * 2f64.powi(largest.log2().floor() as i32 - 52);
+    let margin = grid_step(positions, 1, precision);
     let seeds: Vec<u32> = {
         let mut all: Vec<u32> = faces_of.values().flatten().copied().collect();
         all.sort_unstable();
@@ -677,10 +702,12 @@ fn reround(
             continue;
         }
         let start = positions[v as usize];
-        let found = neighbours(start, pass.steps).into_iter().find(|&q| {
-            positions[v as usize] = q;
-            fine(positions)
-        });
+        let found = neighbours(start, pass.steps, precision)
+            .into_iter()
+            .find(|&q| {
+                positions[v as usize] = q;
+                fine(positions)
+            });
         match found {
             Some(q) => {
                 count += 1;
@@ -706,7 +733,7 @@ fn reround(
 /// (in steps, then in coordinates changed) first, with no coordinate newly subnormal: a step
 /// from 0 to ±5e-324 changes no shape a reader can see, and readers whose predicates
 /// underflow there (Shewchuk's) take the faces around such a vertex for flat.
-fn neighbours(p: Point3, steps: u32) -> Vec<Point3> {
+fn neighbours(p: Point3, steps: u32, precision: Precision) -> Vec<Point3> {
     let n = steps as i32;
     let mut out: Vec<(i32, i32, Point3)> = Vec::new();
     for dx in -n..=n {
@@ -716,8 +743,10 @@ fn neighbours(p: Point3, steps: u32) -> Vec<Point3> {
                 if steps == [0, 0, 0] {
                     continue;
                 }
-                let q = [0, 1, 2].map(|k| step_by(p[k], steps[k]));
-                if (0..3).any(|k| q[k].is_subnormal() && !p[k].is_subnormal()) {
+                let q = [0, 1, 2].map(|k| precision.step_by(p[k], steps[k]));
+                let newly_subnormal =
+                    |k: usize| precision.is_subnormal(q[k]) && !precision.is_subnormal(p[k]);
+                if (0..3).any(|k| !q[k].is_finite() || newly_subnormal(k)) {
                     continue;
                 }
                 let far = steps.iter().map(|s| s.abs()).max().unwrap_or(0);
@@ -865,11 +894,11 @@ fn neighbourhood_vertices(mesh: &Mesh, vertices: &[u32]) -> Vec<u32> {
 /// Moves `vertices` of `mesh` to the nearest multiple of `2^level` ulps of the largest
 /// coordinate magnitude; returns the largest displacement relative to the diagonal of the
 /// mesh's bounding box.
-fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32) -> f64 {
+fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32, precision: Precision) -> f64 {
     let mut parts = std::mem::take(mesh).into_parts();
     let diagonal = diagonal_of(&parts.positions);
     // A power of two, so x / step, its rounding and the product back are exact.
-    let step = grid_step(&parts.positions, level);
+    let step = grid_step(&parts.positions, level, precision);
     let mut displacement = 0.0f64;
     for &v in vertices {
         let p = &mut parts.positions[v as usize];
@@ -886,16 +915,17 @@ fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32) -> f64 {
     }
 }
 
-/// `2^level` ulps of the largest coordinate magnitude of `positions`: ulp(M) = 2^(e − 52)
-/// for M in [2^e, 2^(e+1)).
-fn grid_step(positions: &[Point3], level: i32) -> f64 {
+/// `2^level` ulps of `precision` at the largest coordinate magnitude of `positions`:
+/// ulp(M) = 2^(e − 52) in f64, 2^(e − 23) in f32, for M in [2^e, 2^(e+1)). Its multiples up
+/// to M are numbers of `precision`.
+fn grid_step(positions: &[Point3], level: i32, precision: Precision) -> f64 {
     let largest = (positions.iter().flatten()).fold(0.0f64, |m, x| m.max(x.abs()));
     let exponent = if largest > 0.0 {
         largest.log2().floor() as i32
     } else {
         0
     };
-    2f64.powi(exponent - 52 + level)
+    2f64.powi(exponent - precision.fraction_bits() + level)
 }
 
 /// `refined` (a boolean of `soup` alone, whose provenance names faces of `soup`) with the
@@ -931,7 +961,7 @@ mod tests {
 
     #[test]
     fn only_shells_thinner_than_the_tolerance_go() {
-        let tolerance = grid_step(&[[4.0; 3]], THIN_SHELL_LEVEL);
+        let tolerance = grid_step(&[[4.0; 3]], THIN_SHELL_LEVEL, Precision::F64);
         let (mut positions, mut corners) = flat_box(tolerance / 4.0, 0);
         let (thick_positions, thick_corners) = flat_box(4.0 * tolerance, 8);
         positions.extend(thick_positions);
@@ -1010,8 +1040,14 @@ mod tests {
         let problems = find_problems(&mesh, &moved);
         assert_eq!(problems.crossing_pairs, 1);
         let work = std::cell::Cell::new(0);
-        let (count, displacement) =
-            reround(&mut mesh, &REROUND_PASSES[0], &moved, &problems, &work);
+        let (count, displacement) = reround(
+            &mut mesh,
+            &REROUND_PASSES[0],
+            Precision::F64,
+            &moved,
+            &problems,
+            &work,
+        );
         assert_eq!(count, 1);
         assert!(displacement > 0.0 && displacement < 1e-15);
         assert!(find_problems(&mesh, &moved).is_empty());
@@ -1019,14 +1055,14 @@ mod tests {
 
     #[test]
     fn re_rounding_makes_no_coordinate_subnormal() {
-        let around_zero = neighbours([0.0, 1.0, 2.0], 2);
+        let around_zero = neighbours([0.0, 1.0, 2.0], 2, Precision::F64);
         assert!(around_zero.iter().all(|q| !q[0].is_subnormal()));
         // 0 stays; the other two coordinates take their five values each.
         assert_eq!(around_zero.len(), 5 * 5 - 1);
         // A coordinate that is subnormal already may step on.
         let tiny = f64::from_bits(1);
         assert!(
-            neighbours([tiny, 1.0, 2.0], 1)
+            neighbours([tiny, 1.0, 2.0], 1, Precision::F64)
                 .iter()
                 .any(|q| q[0] == 2.0 * tiny)
         );
@@ -1049,7 +1085,7 @@ mod tests {
             &[[0, 1, 2]],
         )
         .expect("in range");
-        let d = snap(&mut mesh, &[0], MAX_SNAP_LEVEL);
+        let d = snap(&mut mesh, &[0], MAX_SNAP_LEVEL, Precision::F64);
         let step = 2f64.powi(MAX_SNAP_LEVEL - 52);
         for x in mesh.positions()[0] {
             assert_eq!((x / step).fract(), 0.0, "{x} is on the grid");
