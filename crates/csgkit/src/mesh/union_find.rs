@@ -28,6 +28,16 @@ impl UnionFind {
         x
     }
 
+    /// The root of every index's set, in index order.
+    pub(crate) fn roots(mut self) -> Vec<u32> {
+        for x in 0..self.parent.len() as u32 {
+            // Roots are the smallest index of their set: a parent below x is final already.
+            let parent = self.parent[x as usize];
+            self.parent[x as usize] = self.parent[parent as usize];
+        }
+        self.parent
+    }
+
     /// Merges the sets of `a` and `b`.
     pub(crate) fn union(&mut self, a: u32, b: u32) {
         let (ra, rb) = (self.find(a), self.find(b));
