@@ -157,6 +157,11 @@ impl Grid {
         self.precision.step_by(x / self.scale, steps) * self.scale
     }
 
+    /// See [`Precision::holds`].
+    fn holds(&self, x: f64) -> bool {
+        self.precision.holds(x / self.scale)
+    }
+
     /// See [`Precision::is_subnormal`].
     fn is_subnormal(&self, x: f64) -> bool {
         self.precision.is_subnormal(x / self.scale)
@@ -171,7 +176,8 @@ impl Grid {
 /// than its error yields to another that is behind. A coordinate `point` has exactly as a
 /// number of the grid is kept, and none becomes newly subnormal: a step from 0 to ±5e-324
 /// changes no shape a reader can see, and readers whose predicates underflow there
-/// (Shewchuk's) take the faces around for flat. An input vertex goes to the nearest point.
+/// (Shewchuk's) take the faces around for flat. A point the grid holds stays (every input
+/// vertex: in f32 the driver rounds the operands first).
 ///
 /// Every candidate is within an ulp or two of every plane, where `orient3d`'s filter cannot
 /// decide and its exact stages run: the candidates are screened first in f64, by the planes'
@@ -180,7 +186,9 @@ impl Grid {
 /// the others if none of those is behind.
 fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
     if let Point::Explicit(exact) = point {
-        return exact.map(|x| grid.nearest(x, Sign::Zero));
+        if exact.iter().all(|&x| grid.holds(x)) {
+            return *exact;
+        }
     }
     let behind =
         |q: Point3| (planes.iter()).all(|&[a, b, c]| orient3d(a, b, c, q) != Sign::Negative);

@@ -46,8 +46,9 @@ pub struct BooleanOptions {
     pub simplify: Option<f64>,
     /// The numbers the result's coordinates are written in: f64, or f32 for a file that
     /// stores f32 (binary STL, glTF), where rounding an f64 result afterwards can make its
-    /// faces cross. The result is rounded to these numbers and certified in them; every
-    /// operand coordinate must then lie in the f32 range.
+    /// faces cross. In f32 the operands are read as f32 first (as they would be from such
+    /// files: every coordinate must lie in the f32 range), and the result is rounded to f32
+    /// and certified there.
     pub precision: Precision,
 }
 
@@ -242,19 +243,28 @@ pub fn boolean_expression(
             operands.len()
         )));
     }
-    if options.precision == Precision::F32 {
-        check_f32_range(operands)?;
-    }
     let faces = operands.iter().map(|mesh| mesh.face_count()).sum();
+    if options.precision == Precision::F32 {
+        let rounded = in_f32(operands)?;
+        let operands: Vec<&Mesh> = (operands.iter().zip(&rounded))
+            .map(|(&mesh, rounded)| rounded.as_ref().unwrap_or(mesh))
+            .collect();
+        return par::on_pool_or_inline(faces, || {
+            run_expression(expression, &operands, options, progress)
+        });
+    }
     par::on_pool_or_inline(faces, || {
         run_expression(expression, operands, options, progress)
     })
 }
 
-/// Refuses an operand with a coordinate that rounds to an infinite f32, which no f32 result
-/// can hold (intersection points lie between the operands' vertices, so those are the only
-/// ones).
-fn check_f32_range(operands: &[&Mesh]) -> Result<(), BooleanError> {
+/// Each operand with a coordinate that is not an f32 number, read as f32 (each coordinate the
+/// nearest), as from the file that will hold the result; `None` for the others. Every input
+/// vertex is then a point of the f32 grid, so only intersection points round, and an
+/// operand the rounding folds is resolved as any self-intersecting operand is (with the
+/// self-intersection check on). Refuses a coordinate that rounds to an infinite f32.
+fn in_f32(operands: &[&Mesh]) -> Result<Vec<Option<Mesh>>, BooleanError> {
+    let mut rounded = Vec::with_capacity(operands.len());
     for (k, mesh) in operands.iter().enumerate() {
         let outside = (mesh.positions().iter().enumerate())
             .find(|(_, p)| p.iter().any(|&x| (x as f32).is_infinite()));
@@ -263,8 +273,16 @@ fn check_f32_range(operands: &[&Mesh]) -> Result<(), BooleanError> {
                 "operand {k}, vertex {v} ({p:?}) lies beyond the f32 range, so the result cannot be written in f32"
             )));
         }
+        let held = (mesh.positions().iter().flatten()).all(|&x| Precision::F32.holds(x));
+        rounded.push((!held).then(|| {
+            let mut parts = (*mesh).clone().into_parts();
+            for p in &mut parts.positions {
+                *p = p.map(|x| f64::from(x as f32));
+            }
+            Mesh::from_parts(parts).expect("rounding changes positions only")
+        }));
     }
-    Ok(())
+    Ok(rounded)
 }
 
 /// [`boolean_expression`] on a worker thread of the pool.
@@ -276,15 +294,9 @@ fn run_expression(
 ) -> Result<Boolean, BooleanError> {
     let mut stats = BooleanStats::default();
     let mut clock = StageClock::new(progress);
-    let mut rounded = exact_result(
-        expression, operands, options, None, &mut stats, &mut clock, progress,
+    let rounded = rounded_result(
+        expression, operands, options, &mut stats, &mut clock, progress,
     )?;
-    if let Some(delta) = options.simplify {
-        let removed;
-        (rounded, removed) = simplify::simplify(rounded, operands, delta);
-        stats.removed_vertices += removed;
-        clock.end(Stage::Simplify)?;
-    }
 
     // Re-refinement of a snapped soup: its union alone, where folds rounding turned inside
     // out (winding number −1) are outside. Its stages are not the caller's: it polls the
@@ -296,30 +308,55 @@ fn run_expression(
         ..BooleanOptions::default()
     };
     let silent = progress.silent();
-    let (mesh, certificate) =
-        certify::certify(rounded, options.precision, progress, |soup, suspects| {
-            exact_result(
-                &Expression::of(Operation::Union, 1),
-                &[soup],
-                &refine_options,
-                Some(suspects),
+    let certified = |rounded, merge_near| {
+        certify::certify(
+            rounded,
+            options.precision,
+            merge_near,
+            progress,
+            |soup, suspects| {
+                exact_result(
+                    &Expression::of(Operation::Union, 1),
+                    &[soup],
+                    &refine_options,
+                    Some(suspects),
+                    &mut BooleanStats::default(),
+                    &mut StageClock::new(&silent),
+                    &silent,
+                )
+                .ok()
+            },
+        )
+    };
+    // A second attempt, from the exact result again, with near vertices merged before any
+    // snapping: it clears strips of slivers that snapping makes worse, where the first clears
+    // others better (it is the first only because it is the one every result was certified
+    // by so far). Recomputing costs a boolean, paid only by results the first cannot certify.
+    let certificate = match certified(rounded, false) {
+        Err(CertifyError::NotCertified { .. }) => {
+            let again = rounded_result(
+                expression,
+                operands,
+                options,
                 &mut BooleanStats::default(),
                 &mut StageClock::new(&silent),
                 &silent,
-            )
-            .ok()
-        })
-        .map_err(|error| match error {
-            CertifyError::NotCertified {
-                crossing_pairs,
-                degenerate_faces,
-            } => BooleanError::NotCertified {
-                precision: options.precision,
-                crossing_pairs,
-                degenerate_faces,
-            },
-            CertifyError::Cancelled(cancelled) => cancelled.into(),
-        })?;
+            )?;
+            certified(again, true)
+        }
+        first => first,
+    };
+    let (mesh, certificate) = certificate.map_err(|error| match error {
+        CertifyError::NotCertified {
+            crossing_pairs,
+            degenerate_faces,
+        } => BooleanError::NotCertified {
+            precision: options.precision,
+            crossing_pairs,
+            degenerate_faces,
+        },
+        CertifyError::Cancelled(cancelled) => cancelled.into(),
+    })?;
     stats.rounded_vertices = certificate.rounded_vertices;
     stats.snapped_vertices = certificate.snapped_vertices;
     stats.max_snap_displacement = certificate.max_snap_displacement;
@@ -339,6 +376,26 @@ fn run_expression(
     clock.end(Stage::Attributes)?;
     stats.stage_seconds = clock.into_seconds();
     Ok(Boolean { mesh, stats })
+}
+
+/// The exact result rounded to the options' precision, and simplified when they ask: what
+/// certification starts from.
+fn rounded_result(
+    expression: &Expression,
+    operands: &[&Mesh],
+    options: &BooleanOptions,
+    stats: &mut BooleanStats,
+    clock: &mut StageClock,
+    progress: &Progress,
+) -> Result<Rounded, BooleanError> {
+    let mut rounded = exact_result(expression, operands, options, None, stats, clock, progress)?;
+    if let Some(delta) = options.simplify {
+        let removed;
+        (rounded, removed) = simplify::simplify(rounded, operands, delta);
+        stats.removed_vertices += removed;
+        clock.end(Stage::Simplify)?;
+    }
+    Ok(rounded)
 }
 
 impl From<StageError> for BooleanError {

@@ -17,9 +17,10 @@
 //! coordinate stays within `2^-27 · M` of the exact result. Removing a sliver moves the
 //! surface by less than the tolerance it was found with, at most `2^MAX_SNAP_LEVEL` ulps of
 //! `M`; a removed thin shell bounds less than its area times `2^THIN_SHELL_LEVEL` ulps of `M`.
-//! Ulps are those of the result's [`Precision`]: in f32 (a result for binary STL or glTF) every
-//! input vertex is rounded to the nearest f32 too, and the coarsest grid is
-//! `2^MAX_SNAP_LEVEL_F32` f32 ulps, so every coordinate stays within `2^-14 · M`.
+//! Ulps are those of the result's [`Precision`]: in f32 (a result for binary STL or glTF,
+//! whose operands the driver reads as f32 first) the coarsest grid is `2^MAX_SNAP_LEVEL_F32`
+//! f32 ulps, so every coordinate stays within `2^-14 · M` of the exact result of those
+//! operands.
 //! If that is not enough, the stage fails with [`CertifyError::NotCertified`] rather than
 //! return an invalid mesh.
 //!
@@ -50,6 +51,14 @@
 //!    corners' rounding; around the problem vertices, collapse sides and flip needles lower
 //!    than a tolerance (from a few ulps up to the coarsest snap grid, [`SLIVER_LEVELS`]),
 //!    each change checked exactly. Repeat from 1 while this helps.
+//!    Then, in the driver's second attempt only (from the exact result again, after the
+//!    first failed), **merge near vertices** (`merge_near`): a problem vertex within
+//!    [`NEAR_LEVEL`] ulps of another vertex near it goes onto it, clusters at once, where
+//!    single collapses each fold a neighbour (a strip of slivers between a new intersection
+//!    point and the rounded vertex of an earlier boolean beside it), kept where it leaves
+//!    fewer problems. Repeat from 1 while this helps. Not in the first attempt: on some
+//!    results snapping certifies, merging pinches two surfaces an ulp apart into a knot that
+//!    nothing after clears.
 //! 5. **Snap** the vertices near crossing and degenerate faces to a coarser grid, the multiples
 //!    of `2^level` ulps of the largest coordinate magnitude (exact: a power of two), `level`
 //!    growing by [`SNAP_LEVEL_STEP`] after [`ROUNDS_PER_LEVEL`] rounds (the first rounds
@@ -259,12 +268,13 @@ impl CertifyError {
 pub(crate) fn certify(
     rounded: Rounded,
     precision: Precision,
+    merge_near: bool,
     progress: &Progress,
     re_refine: impl FnMut(&Mesh, &[Point3]) -> Option<Rounded>,
 ) -> Result<(Mesh, Certificate), CertifyError> {
     // Units: rounds, of at most MAX_ITERATIONS; almost always one.
     let counter = progress.counter(Stage::Certify, MAX_ITERATIONS);
-    let certified = certify_rounds(rounded, precision, &counter, re_refine)?;
+    let certified = certify_rounds(rounded, precision, merge_near, &counter, re_refine)?;
     counter.finish()?;
     Ok(certified)
 }
@@ -273,6 +283,7 @@ pub(crate) fn certify(
 fn certify_rounds(
     rounded: Rounded,
     precision: Precision,
+    merge_near: bool,
     counter: &Counter,
     mut re_refine: impl FnMut(&Mesh, &[Point3]) -> Option<Rounded>,
 ) -> Result<(Mesh, Certificate), CertifyError> {
@@ -351,6 +362,23 @@ fn certify_rounds(
             };
             certificate.max_snap_displacement = certificate.max_snap_displacement.max(relative);
             continue;
+        }
+        if merge_near {
+            // Kept only where it leaves fewer problems: merging vertices of two surfaces an
+            // ulp apart pinches them.
+            let tolerance = grid_step(mesh.positions(), NEAR_LEVEL, precision);
+            let mut merged = mesh.clone();
+            let (count, displacement) = self::merge_near(&mut merged, &problems.to_snap, tolerance);
+            if count > 0 {
+                let (merged, merged_moved) = merge_coincident(merged, &moved);
+                let after = find_problems(&merged, &merged_moved);
+                let size = |p: &Problems| p.crossing_pairs + p.degenerate_faces + p.sheets.len();
+                if size(&after) < size(&problems) {
+                    certificate.record_snap(count, displacement);
+                    (mesh, moved) = (merged, merged_moved);
+                    continue;
+                }
+            }
         }
         let mut soup = mesh.clone();
         let mut snapped = Vec::new();
@@ -920,6 +948,74 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
 /// Faces per chunk of [`thin_shells`]' parallel sums (and the most per-chunk sums it keeps).
 const THIN_SHELL_CHUNK: usize = 1 << 16;
 
+/// How close, in ulps of the largest coordinate magnitude (as `log2`), a problem vertex must
+/// be to another for [`merge_near`] to merge them.
+const NEAR_LEVEL: i32 = 1;
+
+/// Merges each problem vertex of `to_snap` with the vertices near it that are within
+/// `tolerance` of it in every coordinate, all of a cluster onto the position of its lowest
+/// index (input vertices come first, so an unrounded one where there is one); the caller
+/// then merges coincident vertices as always. Two exact points a step apart, such as a new
+/// intersection point beside the rounded vertex of an earlier boolean it meets in a chain
+/// through a file, leave a strip of slivers between them of which no single collapse
+/// unfolds the rest ([`slivers`] tries those); merged, the strip collapses at once. Returns
+/// how many vertices moved and the largest move relative to the bounding box diagonal.
+fn merge_near(mesh: &mut Mesh, to_snap: &[u32], tolerance: f64) -> (usize, f64) {
+    let candidates = neighbourhood_vertices(mesh, to_snap);
+    let positions = mesh.positions();
+    let cell = |p: Point3| p.map(|x| (x / tolerance).floor() as i64);
+    let mut cells: FxHashMap<[i64; 3], Vec<u32>> = FxHashMap::default();
+    for (i, &v) in candidates.iter().enumerate() {
+        cells
+            .entry(cell(positions[v as usize]))
+            .or_default()
+            .push(i as u32);
+    }
+    let mut sets = UnionFind::new(candidates.len());
+    for &v in to_snap {
+        let Ok(i) = candidates.binary_search(&v) else {
+            continue;
+        };
+        let p = positions[v as usize];
+        let [x, y, z] = cell(p);
+        for key in (-1..=1).flat_map(|dx| {
+            (-1..=1).flat_map(move |dy| (-1..=1).map(move |dz| [x + dx, y + dy, z + dz]))
+        }) {
+            for &j in cells.get(&key).into_iter().flatten() {
+                let q = positions[candidates[j as usize] as usize];
+                if (0..3).all(|k| (p[k] - q[k]).abs() <= tolerance) {
+                    sets.union(i as u32, j);
+                }
+            }
+        }
+    }
+    let diagonal = diagonal_of(positions);
+    let roots = sets.roots();
+    let mut parts = std::mem::take(mesh).into_parts();
+    let (mut count, mut largest) = (0, 0.0f64);
+    for (i, &root) in roots.iter().enumerate() {
+        if root as usize != i {
+            // Roots are the lowest index of their cluster, and candidates are sorted.
+            let target = parts.positions[candidates[root as usize] as usize];
+            let p = &mut parts.positions[candidates[i] as usize];
+            if *p != target {
+                largest = largest.max(distance(*p, target));
+                *p = target;
+                count += 1;
+            }
+        }
+    }
+    *mesh = Mesh::from_parts(parts).expect("merging changes positions only");
+    (
+        count,
+        if diagonal > 0.0 {
+            largest / diagonal
+        } else {
+            0.0
+        },
+    )
+}
+
 /// The mesh without `faces`, keeping every vertex (the next check looks only at faces).
 fn remove_faces<'a>(mesh: Mesh, faces: impl IntoIterator<Item = &'a u32>) -> Mesh {
     let mut parts = mesh.into_parts();
@@ -1083,6 +1179,7 @@ mod tests {
                 rounded: 1,
             },
             Precision::F64,
+            false,
             &Progress::default(),
             |_, _| None,
         )
@@ -1093,6 +1190,34 @@ mod tests {
         assert_eq!(without.face_count(), 12);
         assert_eq!(certificate.removed_shells, 1);
         assert_eq!(without.report().measures.volume, 1.0);
+    }
+
+    #[test]
+    fn near_vertices_merge_onto_the_lowest_in_clusters() {
+        // Two triangles whose corners 3 and 4 lie a step from 0 and 1: with 3 a problem
+        // vertex, 3 goes onto 0; 4 is no problem's and stays; corner 2 is far and stays.
+        let up = |x: f64| Precision::F64.step_by(x, 1);
+        let positions = vec![
+            [0.5, 0.5, 0.5],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, up(0.5), 0.5],
+            [up(1.0), 0.0, 0.0],
+        ];
+        let mut mesh = Mesh::from_triangles(positions.clone(), &[[0, 1, 2], [3, 4, 2]]).unwrap();
+        let tolerance = grid_step(mesh.positions(), NEAR_LEVEL, Precision::F64);
+        let (count, displacement) = merge_near(&mut mesh, &[3], tolerance);
+        assert_eq!(count, 1);
+        assert!(displacement > 0.0);
+        let after = mesh.positions();
+        assert_eq!(after[3], positions[0]);
+        assert_eq!(
+            [after[0], after[1], after[2], after[4]],
+            [0, 1, 2, 4].map(|v| positions[v])
+        );
+        // Nothing within the tolerance of a problem vertex: nothing moves.
+        let (count, _) = merge_near(&mut mesh, &[2], tolerance);
+        assert_eq!(count, 0);
     }
 
     #[test]
