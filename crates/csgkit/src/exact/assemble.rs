@@ -44,9 +44,9 @@ use super::subdivide::Arrangement;
 /// The output mesh in its precision, and which of its vertices need checking.
 pub(crate) struct Rounded {
     pub mesh: Mesh,
-    /// Per vertex: moved by rounding, an intersection point or (in f32) an input vertex that
-    /// is not an f32 number (the only vertices where the rounded mesh may differ from the
-    /// exact result; the triangles reconstruct made tile the exact result too).
+    /// Per vertex: an intersection point moved by rounding (the only vertices where the
+    /// rounded mesh may differ from the exact result: input vertices are numbers of its
+    /// precision, and the triangles reconstruct made tile the exact result too).
     pub moved: Vec<bool>,
     /// How many vertices rounding moved.
     pub rounded: usize,

@@ -95,8 +95,8 @@ pub struct BooleanStats {
     /// two faces or inside one (reconstruct), and with `simplify`, vertices only faces flat
     /// to within its tolerance needed.
     pub removed_vertices: usize,
-    /// Output vertices rounding moved: intersection points, and in f32, input vertices that
-    /// are not f32 numbers.
+    /// Output vertices that are intersection points rounded to the result's precision (in
+    /// f32 the operands are read as f32 first, so their vertices stay).
     pub rounded_vertices: usize,
     /// Output vertices moved to a coarser grid because rounding made faces cross or
     /// collapse (0 almost always; see the certify stage).
@@ -244,17 +244,15 @@ pub fn boolean_expression(
         )));
     }
     let faces = operands.iter().map(|mesh| mesh.face_count()).sum();
-    if options.precision == Precision::F32 {
-        let rounded = in_f32(operands)?;
-        let operands: Vec<&Mesh> = (operands.iter().zip(&rounded))
-            .map(|(&mesh, rounded)| rounded.as_ref().unwrap_or(mesh))
-            .collect();
-        return par::on_pool_or_inline(faces, || {
-            run_expression(expression, &operands, options, progress)
-        });
-    }
+    let rounded = match options.precision {
+        Precision::F32 => in_f32(operands)?,
+        Precision::F64 => Vec::new(),
+    };
+    let operands: Vec<&Mesh> = (operands.iter().enumerate())
+        .map(|(k, &mesh)| rounded.get(k).and_then(Option::as_ref).unwrap_or(mesh))
+        .collect();
     par::on_pool_or_inline(faces, || {
-        run_expression(expression, operands, options, progress)
+        run_expression(expression, &operands, options, progress)
     })
 }
 

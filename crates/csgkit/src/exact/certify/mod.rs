@@ -182,7 +182,7 @@ fn levels(precision: Precision) -> (i32, [i32; 4]) {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Certificate {
     /// Vertices rounding moved in the output (intersection points not representable in its
-    /// precision, and in f32, input vertices that are not f32 numbers).
+    /// precision).
     pub rounded_vertices: usize,
     /// Vertex moves to a coarser grid that removing crossings and degenerate faces took (a
     /// vertex moved in two rounds counts twice).
