@@ -2,7 +2,10 @@
 //! - `exact/<op>/spheres/<triangles per sphere>`: the cost that grows with the input;
 //! - `exact/cubes/<case>`: the fixed cost of one boolean, on the two unit cubes of the peers
 //!   harness's `coplanar` family (issue 12's target: under 0.3 ms in any touching
-//!   configuration), since CSG trees and chained operations run thousands of small booleans.
+//!   configuration), since CSG trees and chained operations run thousands of small booleans;
+//! - `exact/rotated/<axis>_<op>`: the unit cube against itself turned by 1e-7 rad, as the
+//!   harness's `rotated` family: the small case where every intersection point is in general
+//!   position and nearly every predicate lands within an ulp of zero.
 //!
 //! Spheres: two icospheres of radius 1 (`primitives::icosphere`, 20·4^s triangles), the
 //! second moved by (0.5, 0.1, 0.05) so the intersection curve crosses triangles in general
@@ -12,6 +15,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use csgkit::Operation;
 use csgkit::exact::{BooleanOptions, boolean};
+use csgkit::mesh::{Affine, transformed};
 use csgkit::primitives::{cuboid, icosphere};
 
 fn spheres(c: &mut Criterion) {
@@ -86,5 +90,51 @@ fn cubes(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, spheres, cubes);
+/// The harness's `rotated` cases: `[-0.5, 0.5]³` and the same cube turned by 1e-7 rad about
+/// `axis` (Rodrigues' formula), with the operands' self-intersection check.
+fn rotated(c: &mut Criterion) {
+    let mut group = c.benchmark_group("exact/rotated");
+    let cube = cuboid([-0.5; 3], [0.5; 3]);
+    let options = BooleanOptions::default();
+    for (axis_name, axis) in [("z", [0.0, 0.0, 1.0]), ("xyz", [1.0, 2.0, 3.0])] {
+        let turned = transformed(&cube, &rotation(axis, 1e-7)).expect("a rotation is regular");
+        for op in Operation::ALL {
+            let name = format!("{axis_name}_{op:?}").to_lowercase();
+            group.bench_function(name, |bench| {
+                bench.iter(|| boolean(op, &[&cube, &turned], &options).unwrap())
+            });
+        }
+    }
+    group.finish();
+}
+
+/// The rotation by `angle` about `axis` (any length).
+fn rotation(axis: [f64; 3], angle: f64) -> Affine {
+    let length = axis.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let [x, y, z] = axis.map(|a| a / length);
+    let (sin, cos) = angle.sin_cos();
+    let t = 1.0 - cos;
+    [
+        [
+            t * x * x + cos,
+            t * x * y - sin * z,
+            t * x * z + sin * y,
+            0.0,
+        ],
+        [
+            t * x * y + sin * z,
+            t * y * y + cos,
+            t * y * z - sin * x,
+            0.0,
+        ],
+        [
+            t * x * z - sin * y,
+            t * y * z + sin * x,
+            t * z * z + cos,
+            0.0,
+        ],
+    ]
+}
+
+criterion_group!(benches, spheres, cubes, rotated);
 criterion_main!(benches);

@@ -41,9 +41,8 @@ use crate::par::*;
 
 use crate::index::{Aabb, Bvh};
 use crate::kernel::Point3;
-use crate::mesh::{
-    FaceId, Mesh, PolygonError, coincident_triangles, triangulate_faces, weld_positions,
-};
+use crate::mesh::weld_positions_by;
+use crate::mesh::{FaceId, Mesh, PolygonError, coincident_triangles, triangulate_faces};
 use crate::progress::{Cancelled, Progress, Stage};
 
 use super::intersect::{IndexedTriangle, Triangle};
@@ -194,27 +193,17 @@ impl Input {
 /// [`InvalidOperand::NonFinite`], [`InvalidOperand::InvalidPolygon`], [`InvalidOperand::NotClosed`]
 /// or [`InvalidOperand::Inverted`], naming the first operand that fails.
 pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
-    for (k, mesh) in operands.iter().enumerate() {
-        if let Some(v) = mesh
-            .positions()
-            .iter()
-            .position(|p| !p.iter().all(|x| x.is_finite()))
-        {
-            return Err(InvalidOperand::NonFinite {
-                operand: k,
-                vertex: v as u32,
-            });
-        }
-    }
-    let raw: Vec<Point3> = operands
-        .iter()
-        .flat_map(|m| m.positions())
-        .copied()
-        .collect();
-    let scale = power_of_two_scale(&raw);
-    let welding = weld_positions(&raw);
-    let positions: Vec<Point3> = (welding.representatives.iter())
-        .map(|&v| raw[v as usize].map(|x| x * scale))
+    let scale = power_of_two_scale(operands)?;
+    // Vertex `v` of the operands' positions one after another, read where each operand keeps
+    // them rather than copied into one array.
+    let offsets = vertex_offsets(operands);
+    let raw = |v: u32| {
+        let k = offsets.partition_point(|&start| start <= v as usize) - 1;
+        operands[k].positions()[v as usize - offsets[k]]
+    };
+    let welding = weld_positions_by(offsets[operands.len()], raw);
+    let positions: Vec<Point3> = (welding.representatives.par_iter())
+        .map(|&v| raw(v).map(|x| x * scale))
         .collect();
 
     // Each operand's triangles are written once, in place (an indexed parallel extend); the
@@ -273,7 +262,6 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
                 .unwrap_or(Aabb::EMPTY)
         })
         .collect();
-    let offsets = vertex_offsets(operands);
     let link = |input: &Input| link_edges(input, &degenerate, operands, &welding.remap, &offsets);
     let dropped = match link(&input) {
         Ok(neighbours) => {
@@ -397,24 +385,48 @@ fn vertex_offsets(operands: &[&Mesh]) -> Vec<usize> {
     offsets
 }
 
-/// A power of two that brings the largest magnitude of `coords` near 1 when it lies outside
-/// `[2^-64, 2^64]`, if every coordinate stays a normal number (so the scaling is exact);
-/// otherwise 1.
-fn power_of_two_scale(coords: &[Point3]) -> f64 {
+/// A power of two that brings the largest magnitude of the operands' coordinates near 1
+/// when it lies outside `[2^-64, 2^64]`, if every coordinate stays a normal number (so the
+/// scaling is exact); otherwise 1.
+///
+/// # Errors
+/// [`InvalidOperand::NonFinite`] for the first vertex with a NaN or infinite coordinate.
+fn power_of_two_scale(operands: &[&Mesh]) -> Result<f64, InvalidOperand> {
+    // The largest and the smallest nonzero magnitude, and whether all are finite, in one
+    // pass on every core (one sequential pass took 12 ms on the million vertices of two 1 M
+    // triangle spheres, and the finiteness check another 3).
     let (mut largest, mut smallest) = (0.0f64, f64::INFINITY);
-    for x in coords.iter().flatten().map(|x| x.abs()) {
-        largest = largest.max(x);
-        if x > 0.0 {
-            smallest = smallest.min(x);
+    for (k, mesh) in operands.iter().enumerate() {
+        let (high, low, all_finite) = (mesh.positions().par_chunks(4096))
+            .map(|chunk| {
+                let (mut high, mut low, mut all_finite) = (0.0f64, f64::INFINITY, true);
+                for x in chunk.iter().flatten().map(|x| x.abs()) {
+                    all_finite &= x.is_finite();
+                    high = if x > high { x } else { high };
+                    low = if x > 0.0 && x < low { x } else { low };
+                }
+                (high, low, all_finite)
+            })
+            .reduce_with(|a, b| (a.0.max(b.0), a.1.min(b.1), a.2 && b.2))
+            .unwrap_or((0.0, f64::INFINITY, true));
+        if !all_finite {
+            let vertex = (mesh.positions().iter())
+                .position(|p| !p.iter().all(|x| x.is_finite()))
+                .unwrap_or(0);
+            return Err(InvalidOperand::NonFinite {
+                operand: k,
+                vertex: vertex as u32,
+            });
         }
+        (largest, smallest) = (largest.max(high), smallest.min(low));
     }
     if largest == 0.0 || (2f64.powi(-64)..=2f64.powi(64)).contains(&largest) {
-        return 1.0;
+        return Ok(1.0);
     }
     let exponent = -(largest.log2().floor() as i32);
     let scale = 2f64.powi(exponent);
     let exact = smallest * scale >= f64::MIN_POSITIVE && (largest * scale).is_finite();
-    if exact { scale } else { 1.0 }
+    Ok(if exact { scale } else { 1.0 })
 }
 
 /// Checks that every edge of every operand is balanced, and links each triangle side to the

@@ -77,6 +77,7 @@ pub use triangulate::{
 };
 pub(crate) use triangulate::{PlanarFault, triangulate_planar};
 pub use validation::InvalidMesh;
+pub(crate) use weld::weld_positions_by;
 pub use weld::{Welding, apply_welding, weld, weld_positions};
 
 /// An RGBA colour with 8 bits per channel.
