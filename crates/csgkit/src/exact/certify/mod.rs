@@ -11,12 +11,14 @@
 //! - closed and consistently oriented.
 //!
 //! Every vertex ends near where the exact result has it: rounding moves it by at most 2.5
-//! ulps per coordinate, re-rounding by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at
-//! most half a grid step per level, the steps doubling up to `2^MAX_SNAP_LEVEL` ulps of the
-//! largest coordinate magnitude `M`) by at most `2^MAX_SNAP_LEVEL` ulps of `M` in all: every
-//! coordinate stays within `2^-27 · M` of the exact result. Removing a sliver moves the
+//! ulps per coordinate, re-rounding (and pushing a corner through a thin layer) by at most
+//! [`REROUND_MAX_STEPS`] ulps, and snapping (at most half a grid step per level, the steps
+//! doubling up to `2^MAX_SNAP_LEVEL` ulps of the largest coordinate magnitude `M`) by at most
+//! `2^MAX_SNAP_LEVEL` ulps of `M` in all: every coordinate stays within `2^-27 · M` of the
+//! exact result. Removing a sliver moves the
 //! surface by less than the tolerance it was found with, at most `2^MAX_SNAP_LEVEL` ulps of
-//! `M`; a removed thin shell bounds less than its area times `2^THIN_SHELL_LEVEL` ulps of `M`.
+//! `M`; a removed thin shell bounds less than its area times `2^THIN_SHELL_LEVEL` ulps of `M`,
+//! and a thin layer turned inside out is thinner than the push that turned it.
 //! Ulps are those of the result's [`Precision`]: in f32 (a result for binary STL or glTF,
 //! whose operands the driver reads as f32 first) the coarsest grid is `2^MAX_SNAP_LEVEL_F32`
 //! f32 ulps, so every coordinate stays within `2^-14 · M` of the exact result of those
@@ -59,12 +61,22 @@
 //!    fewer problems. Repeat from 1 while this helps. Not in the first attempt: on some
 //!    results snapping certifies, merging pinches two surfaces an ulp apart into a knot that
 //!    nothing after clears.
-//! 5. **Snap** the vertices near crossing and degenerate faces to a coarser grid, the multiples
+//! 5. **Push through thin layers** ([`layers`]): two crossing faces that face opposite ways,
+//!    with corners of one within a few ulps behind the other's plane, bound a layer of
+//!    material thinner than the grid (a chain such as `(A ∪ B) − B` through a file, where a
+//!    corner of `A ∪ B` on the curve rounded in front of B's plane): attached to the solid
+//!    along the curve, it is no closed shell, and re-refining it as it is computes it again,
+//!    with new points that fold again. Those corners move in front of the other face's plane
+//!    (at most [`REROUND_MAX_STEPS`] ulps): the layer turns inside out, and an exact
+//!    re-refinement (step 7) drops it. Kept where it leaves fewer problems; otherwise rolled
+//!    back and not tried again in this certification, whose rounds then go on as without it.
+//!    Repeat from 1.
+//! 6. **Snap** the vertices near crossing and degenerate faces to a coarser grid, the multiples
 //!    of `2^level` ulps of the largest coordinate magnitude (exact: a power of two), `level`
 //!    growing by [`SNAP_LEVEL_STEP`] after [`ROUNDS_PER_LEVEL`] rounds (the first rounds
 //!    re-refine without snapping). The whole neighbourhood moves, so no face tilts between
 //!    a snapped and an unsnapped corner.
-//! 6. **Re-refine**: the snapped soup is one operand of a union under the positive winding
+//! 7. **Re-refine**: the snapped soup is one operand of a union under the positive winding
 //!    rule, computed exactly by the same pipeline (its crossing faces are intersected with
 //!    each other, folds that turned inside out are outside, coincident vertices are welded,
 //!    collapsed and degenerate faces dropped); its new intersection points are snapped to
@@ -80,7 +92,7 @@
 //! Step 1: a tree over the moved faces (few: those around intersection curves) and one
 //! query per face, then the exact test on the neighbourhood. Step 3 tries at most a few
 //! hundred positions per problem vertex against its neighbourhood. Step 4 builds a tree over
-//! all faces once per call and tests each change against the faces around it. Steps 5–6 run
+//! all faces once per call and tests each change against the faces around it. Steps 5–7 run
 //! only when re-rounding and sliver removal cannot help, and cost one exact boolean of the result with itself per round.
 
 use crate::par::*;
@@ -98,6 +110,7 @@ use super::assemble::Rounded;
 use super::intersect::Triangle;
 use super::self_intersect::pair_intersects;
 
+mod layers;
 mod slivers;
 
 /// Snap levels grow by this many doublings of the grid each round.
@@ -216,6 +229,8 @@ struct Problems {
     /// corners, but the sheet doubles the uses of its edges and has no inside for the next
     /// boolean to sample.
     sheets: Vec<[u32; 2]>,
+    /// The crossing face pairs, `crossing_pairs` of them.
+    pairs: Vec<(u32, u32)>,
 }
 
 impl Problems {
@@ -224,6 +239,12 @@ impl Problems {
             && self.degenerate_faces == 0
             && self.coincident.is_empty()
             && self.sheets.is_empty()
+    }
+
+    /// Crossing pairs, degenerate faces and sheets: what a repair that keeps only where it
+    /// leaves fewer problems compares.
+    fn size(&self) -> usize {
+        self.crossing_pairs + self.degenerate_faces + self.sheets.len()
     }
 }
 
@@ -279,7 +300,7 @@ pub(crate) fn certify(
     Ok(certified)
 }
 
-/// The rounds of [`certify`]: steps 1–6 until no problem is left.
+/// The rounds of [`certify`]: steps 1–7 until no problem is left.
 fn certify_rounds(
     rounded: Rounded,
     precision: Precision,
@@ -300,6 +321,7 @@ fn certify_rounds(
     let mut level = 0;
     let mut rounds_at_level = 0;
     let work = std::cell::Cell::new(0u64);
+    let mut pushing_refused = false;
     for round in 0..MAX_ITERATIONS {
         if round > 0 {
             counter.advance(1);
@@ -372,11 +394,44 @@ fn certify_rounds(
             if count > 0 {
                 let (merged, merged_moved) = merge_coincident(merged, &moved);
                 let after = find_problems(&merged, &merged_moved);
-                let size = |p: &Problems| p.crossing_pairs + p.degenerate_faces + p.sheets.len();
-                if size(&after) < size(&problems) {
+                if after.size() < problems.size() {
                     certificate.record_snap(count, displacement);
                     (mesh, moved) = (merged, merged_moved);
                     continue;
+                }
+            }
+        }
+        if !pushing_refused {
+            // A layer thinner than the grid between opposite faces, turned inside out and
+            // dropped by an exact re-refinement (see [`layers`]); kept where it leaves fewer
+            // problems, else rolled back, and not tried again in this certification: the
+            // rounds go on as without it.
+            let pushes = layers::pushes(&mesh, &problems.pairs, precision);
+            if !pushes.is_empty() {
+                let (soup, displacement) = layers::pushed(&mesh, &pushes);
+                let suspects: Vec<Point3> = (problems.to_snap.iter())
+                    .map(|&v| soup.positions()[v as usize])
+                    .chain(pushes.iter().map(|&(_, q)| q))
+                    .collect();
+                let refined = re_refine(&soup, &suspects)
+                    .filter(|next| crate::mesh::analyze_topology(&next.mesh).unbalanced_edges == 0);
+                if counter.is_cancelled() {
+                    return Err(Cancelled.into());
+                }
+                let fewer = refined.and_then(|next| {
+                    let refined = with_source_provenance(next.mesh, &soup);
+                    let moved = layers::moved_after(&refined, next.moved, &soup, &moved, &pushes);
+                    let after = find_problems(&refined, &moved);
+                    (after.size() < problems.size()).then_some((refined, moved))
+                });
+                match fewer {
+                    Some(next) => {
+                        certificate.rounds += 1;
+                        certificate.record_snap(pushes.len(), displacement);
+                        (mesh, moved) = next;
+                        continue;
+                    }
+                    None => pushing_refused = true,
                 }
             }
         }
@@ -650,6 +705,7 @@ fn problems_among(
         to_snap,
         coincident,
         sheets: Vec::new(),
+        pairs,
     }
 }
 
