@@ -136,10 +136,14 @@ mod parallel {
     /// (interleaved medians, 2 cores): two unit cubes touching (24 faces) take 30–45 % less time
     /// inline, where a hand-over to a sleeping worker and the wake-ups of the other cost more
     /// than the loops; two cubes rotated by 1e-7 rad (24 faces, whose exact splits spread through
-    /// [`chunks`]) and Menger level 1 (48) take the same; Menger level 2 (372 faces in 31
-    /// operands, 20 ms) takes 15 % more, its checks of the inputs and of the result being loops
-    /// that only rayon's splitting spreads.
-    const POOL_FROM_SIZE: usize = 100;
+    /// [`chunks`]) and Menger level 1 (48) take the same. Up to a few thousand faces the pool
+    /// still gains nothing (11 fresh CLI runs each, op medians, pool from 100 faces → from
+    /// 4,096): sphere_sphere_1k_union (1,960 faces) 2.30 → 2.17 ms, its difference 2.33 →
+    /// 2.26, Menger level 2 (1,080 faces in 31 operands) 5.67 → 5.36; with another process
+    /// keeping one core busy 2.31 → 2.15 and 8.38 → 7.13. Above it the pool pays (warm in one
+    /// process, one thread against two): pair_ball_union (6,560 faces) 4.65 → 4.38 ms,
+    /// sphere_sphere_10k_union (20,480) 9.27 → 7.48.
+    const POOL_FROM_SIZE: usize = 4096;
 
     thread_local! {
         /// Whether this thread is running a small run inline ([`on_pool_or_inline`]).

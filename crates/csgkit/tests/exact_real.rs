@@ -287,6 +287,67 @@ fn an_operand_brought_back_through_a_file() {
 const TWIN_LEFT: &str = "Generic_Twin_7081.1.t0_left.obj";
 const TWIN_RIGHT: &str = "Generic_Twin_7081.1.t0_right.obj";
 
+/// `(M ∪ C) − C` through an OBJ file, M Generic_Twin left (a CAD export whose fans reach
+/// 969 faces around one corner) and C a 64-sided cylinder along its longest axis (y),
+/// through its middle and out of its box by a tenth on each side. The first result's curve
+/// points, where the fans' long triangles meet C, round up to 0.38 ulp in front of C's faces
+/// (no point behind every plane around them lies within reach), so the exact second result
+/// keeps a layer of material thinner than an ulp between those pieces of C's faces and C,
+/// attached to the solid along the curve: it folded wherever rounded, and certification
+/// failed with 3,457 crossing pairs until certify pushed such corners through the opposite
+/// face and re-refined (`certify/layers.rs`). The second result must be a valid solid with
+/// no crossing faces, of the volume of M − C to the layer's rounding.
+#[test]
+fn a_cad_model_and_a_cylinder_brought_back_through_a_file() {
+    let Some(data) = shared_data() else { return };
+    let model = load(&data, TWIN_LEFT);
+    let bounds = bbox(&model);
+    let extent = [0, 1, 2].map(|k| bounds.max[k] - bounds.min[k]);
+    let short = extent.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut base = bounds.center();
+    base[1] = bounds.min[1] - 0.1 * extent[1];
+    let (radius, height, n) = (0.15 * short, 1.2 * extent[1], 64u32);
+    // The ring in the x–z plane, as the data sweep that found the failure built it.
+    let mut positions = Vec::new();
+    for k in 0..n {
+        let t = 2.0 * std::f64::consts::PI * f64::from(k) / f64::from(n);
+        for y in [0.0, height] {
+            positions.push([
+                base[0] + radius * t.cos(),
+                base[1] + y,
+                base[2] + radius * t.sin(),
+            ]);
+        }
+    }
+    let (bottom, top) = (2 * n, 2 * n + 1);
+    positions.extend([base, [base[0], base[1] + height, base[2]]]);
+    let mut triangles = Vec::new();
+    for k in 0..n {
+        let (a0, a1, b0, b1) = (2 * k, 2 * k + 1, 2 * ((k + 1) % n), 2 * ((k + 1) % n) + 1);
+        // Outward, as the assertion below checks.
+        triangles.extend([[a0, b1, b0], [a0, a1, b1], [bottom, a0, b0], [top, b1, a1]]);
+    }
+    let cylinder = Mesh::from_triangles(positions, &triangles).expect("a closed cylinder");
+    assert!(
+        cylinder.report().measures.volume > 0.0,
+        "the cylinder faces out"
+    );
+    let options = BooleanOptions::default();
+    let union = boolean(Union, &[&model, &cylinder], &options).expect("M ∪ C");
+    let union = through_a_file(&union.mesh, Format::Obj);
+    let result = boolean(Difference, &[&union, &cylinder], &options)
+        .unwrap_or_else(|e| panic!("(M ∪ C) − C through OBJ: {e}"));
+    let report = result.mesh.report();
+    assert!(report.is_valid_solid(), "(M ∪ C) − C is not a valid solid");
+    assert_no_self_intersection(&result.mesh, "(M ∪ C) − C");
+    let expected = volume_of("M − C", Difference, &[&model, &cylinder], &options);
+    let volume = report.measures.volume;
+    assert!(
+        (volume - expected).abs() <= 1e-6 * expected,
+        "(M ∪ C) − C has volume {volume}, M − C {expected}"
+    );
+}
+
 /// Generic_Twin left ∪ right (manifold's GenericTwinBooleanTest7081) with the
 /// self-intersection search off: the union must still be a closed, oriented solid.
 /// The volume identities are not asserted: an operand that overlaps itself counts the overlap
