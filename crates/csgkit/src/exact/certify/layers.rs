@@ -33,7 +33,7 @@ use crate::kernel::{Point3, Precision, Sign, orient3d};
 use crate::mesh::Mesh;
 use crate::mesh::vector::{cross, dot, norm, sub};
 
-use super::{REROUND_MAX_STEPS, diagonal_of, distance, grid_step, neighbours};
+use super::{REROUND_MAX_STEPS, grid_step, neighbours};
 
 /// How far behind the plane of an opposite face a corner may lie to be pushed through it, in
 /// ulps of the largest coordinate magnitude (as `log2`): a layer an ulp or two thick.
@@ -107,26 +107,6 @@ pub(super) fn pushes(
     pushes
 }
 
-/// `mesh` with each vertex of `pushes` at its new position, and the largest move relative to
-/// the diagonal of its bounding box.
-pub(super) fn pushed(mesh: &Mesh, pushes: &[(u32, Point3)]) -> (Mesh, f64) {
-    let mut parts = mesh.clone().into_parts();
-    let diagonal = diagonal_of(&parts.positions);
-    let mut largest = 0.0f64;
-    for &(v, q) in pushes {
-        let p = &mut parts.positions[v as usize];
-        largest = largest.max(distance(*p, q));
-        *p = q;
-    }
-    let mesh = Mesh::from_parts(parts).expect("pushing changes positions only");
-    let relative = if diagonal > 0.0 {
-        largest / diagonal
-    } else {
-        0.0
-    };
-    (mesh, relative)
-}
-
 /// The moved flags of `refined`, the re-refinement of `soup` (whose vertices it keeps where
 /// they are): its new intersection points (`moved`), and the vertices that were moved in the
 /// soup (`soup_moved`) or pushed into it. Those are input vertices of the re-refinement, but
@@ -155,6 +135,7 @@ pub(super) fn moved_after(
 
 #[cfg(test)]
 mod tests {
+    use super::super::moved_to;
     use super::*;
 
     /// A triangle in the plane z = 16 facing down, and a small one facing up over it whose
@@ -183,7 +164,7 @@ mod tests {
         assert_eq!(v, 3);
         // The nearest point in front of the lower face: a step below its plane.
         assert_eq!(q, [1.0, 1.0, Precision::F64.step_by(16.0, -1)]);
-        let (moved, displacement) = pushed(&mesh, &moves);
+        let (moved, displacement) = moved_to(mesh.clone(), &moves);
         assert_eq!(moved.positions()[3], q);
         assert!(displacement > 0.0);
         // In front of the lower face now, the upper one crosses nothing.

@@ -377,11 +377,7 @@ fn certify_rounds(
         let done = slivers::dissolve(&mut mesh, &mut moved, &problems.to_snap, &tolerances);
         if done.changes > 0 {
             certificate.dissolved_slivers += done.changes;
-            let relative = if diagonal > 0.0 {
-                done.displacement / diagonal
-            } else {
-                0.0
-            };
+            let relative = relative_to(done.displacement, diagonal);
             certificate.max_snap_displacement = certificate.max_snap_displacement.max(relative);
             continue;
         }
@@ -408,19 +404,18 @@ fn certify_rounds(
             // rounds go on as without it.
             let pushes = layers::pushes(&mesh, &problems.pairs, precision);
             if !pushes.is_empty() {
-                let (soup, displacement) = layers::pushed(&mesh, &pushes);
+                let (soup, displacement) = moved_to(mesh.clone(), &pushes);
                 let suspects: Vec<Point3> = (problems.to_snap.iter())
                     .map(|&v| soup.positions()[v as usize])
                     .chain(pushes.iter().map(|&(_, q)| q))
                     .collect();
-                let refined = re_refine(&soup, &suspects)
-                    .filter(|next| crate::mesh::analyze_topology(&next.mesh).unbalanced_edges == 0);
+                let refined = closed_refinement(&mut re_refine, &soup, &suspects);
                 if counter.is_cancelled() {
                     return Err(Cancelled.into());
                 }
-                let fewer = refined.and_then(|next| {
-                    let refined = with_source_provenance(next.mesh, &soup);
-                    let moved = layers::moved_after(&refined, next.moved, &soup, &moved, &pushes);
+                let fewer = refined.and_then(|(refined, refined_moved)| {
+                    let moved =
+                        layers::moved_after(&refined, refined_moved, &soup, &moved, &pushes);
                     let after = find_problems(&refined, &moved);
                     (after.size() < problems.size()).then_some((refined, moved))
                 });
@@ -464,11 +459,7 @@ fn certify_rounds(
             .chain(&snapped)
             .map(|&v| soup.positions()[v as usize])
             .collect();
-        // The re-refinement's own arrangement decides exactly, but its input is a fold: its
-        // result is checked like any other before it replaces the mesh.
-        let refined = re_refine(&soup, &suspects)
-            .filter(|next| crate::mesh::analyze_topology(&next.mesh).unbalanced_edges == 0);
-        let next = match refined {
+        let next = match closed_refinement(&mut re_refine, &soup, &suspects) {
             Some(next) => next,
             None if counter.is_cancelled() => return Err(Cancelled.into()),
             // Slivers too thin to sample in f64, an operand the engine refuses, or a result
@@ -479,8 +470,7 @@ fn certify_rounds(
             }
             None => return Err(CertifyError::not_certified(&problems)),
         };
-        mesh = with_source_provenance(next.mesh, &soup);
-        moved = next.moved;
+        (mesh, moved) = next;
         if level > 0 {
             // The new intersection points go on the same grid (Lazard & Valque): on a
             // coarse grid, near-degenerate pieces collapse instead of shrinking further.
@@ -839,14 +829,7 @@ fn reround(
     }
     parts.corners = corners;
     *mesh = Mesh::from_parts(parts).expect("re-rounding changes positions only");
-    (
-        count,
-        if diagonal > 0.0 {
-            largest_move / diagonal
-        } else {
-            0.0
-        },
-    )
+    (count, relative_to(largest_move, diagonal))
 }
 
 /// The f64 points around `p` up to `steps` steps away in each coordinate, nearest
@@ -1045,31 +1028,41 @@ fn merge_near(mesh: &mut Mesh, to_snap: &[u32], tolerance: f64) -> (usize, f64) 
             }
         }
     }
-    let diagonal = diagonal_of(positions);
     let roots = sets.roots();
-    let mut parts = std::mem::take(mesh).into_parts();
-    let (mut count, mut largest) = (0, 0.0f64);
-    for (i, &root) in roots.iter().enumerate() {
-        if root as usize != i {
-            // Roots are the lowest index of their cluster, and candidates are sorted.
-            let target = parts.positions[candidates[root as usize] as usize];
-            let p = &mut parts.positions[candidates[i] as usize];
-            if *p != target {
-                largest = largest.max(distance(*p, target));
-                *p = target;
-                count += 1;
-            }
-        }
+    // Roots are the lowest index of their cluster, and candidates are sorted.
+    let moves: Vec<(u32, Point3)> = (roots.iter().enumerate())
+        .filter(|&(i, &root)| root as usize != i)
+        .map(|(i, &root)| (candidates[i], positions[candidates[root as usize] as usize]))
+        .filter(|&(v, target)| positions[v as usize] != target)
+        .collect();
+    let (moved, displacement) = moved_to(std::mem::take(mesh), &moves);
+    *mesh = moved;
+    (moves.len(), displacement)
+}
+
+/// `mesh` with each vertex of `moves` at its new position, and the largest move relative to
+/// the diagonal of its bounding box.
+fn moved_to(mesh: Mesh, moves: &[(u32, Point3)]) -> (Mesh, f64) {
+    let mut parts = mesh.into_parts();
+    let diagonal = diagonal_of(&parts.positions);
+    let mut largest = 0.0f64;
+    for &(v, q) in moves {
+        let p = &mut parts.positions[v as usize];
+        largest = largest.max(distance(*p, q));
+        *p = q;
     }
-    *mesh = Mesh::from_parts(parts).expect("merging changes positions only");
-    (
-        count,
-        if diagonal > 0.0 {
-            largest / diagonal
-        } else {
-            0.0
-        },
-    )
+    let mesh = Mesh::from_parts(parts).expect("moving vertices changes positions only");
+    (mesh, relative_to(largest, diagonal))
+}
+
+/// `largest`, a vertex move, relative to `diagonal`, a bounding box's (0 for a mesh of no
+/// extent).
+fn relative_to(largest: f64, diagonal: f64) -> f64 {
+    if diagonal > 0.0 {
+        largest / diagonal
+    } else {
+        0.0
+    }
 }
 
 /// The mesh without `faces`, keeping every vertex (the next check looks only at faces).
@@ -1134,11 +1127,7 @@ fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32, precision: Precision) -> 
         *p = q;
     }
     *mesh = Mesh::from_parts(parts).expect("snapping changes positions only");
-    if diagonal > 0.0 {
-        displacement / diagonal
-    } else {
-        0.0
-    }
+    relative_to(displacement, diagonal)
 }
 
 /// `2^level` ulps of `precision` at the largest coordinate magnitude of `positions`:
@@ -1152,6 +1141,21 @@ fn grid_step(positions: &[Point3], level: i32, precision: Precision) -> f64 {
         0
     };
     2f64.powi(exponent - precision.fraction_bits() + level)
+}
+
+/// The exact re-refinement of `soup` (`suspects`: where its vertices moved since it was last
+/// free of crossings), when the engine takes it and its result is closed: that mesh with the
+/// provenance of `soup`'s faces, and its moved vertices. The re-refinement's own arrangement
+/// decides exactly, but its input is a fold: its result is checked like any other before it
+/// replaces the mesh.
+fn closed_refinement(
+    re_refine: &mut impl FnMut(&Mesh, &[Point3]) -> Option<Rounded>,
+    soup: &Mesh,
+    suspects: &[Point3],
+) -> Option<(Mesh, Vec<bool>)> {
+    let next = re_refine(soup, suspects)
+        .filter(|next| crate::mesh::analyze_topology(&next.mesh).unbalanced_edges == 0)?;
+    Some((with_source_provenance(next.mesh, soup), next.moved))
 }
 
 /// `refined` (a boolean of `soup` alone, whose provenance names faces of `soup`) with the
