@@ -60,7 +60,10 @@
 //!    point and the rounded vertex of an earlier boolean beside it), kept where it leaves
 //!    fewer problems. Repeat from 1 while this helps. Not in the first attempt: on some
 //!    results snapping certifies, merging pinches two surfaces an ulp apart into a knot that
-//!    nothing after clears.
+//!    nothing after clears. Once an attempt, it is tried before dissolving goes on where a
+//!    round of dissolving left as many problems as before (it takes every sliver around a
+//!    problem vertex, often not the problem's): on a CAD model's fans through binary STL,
+//!    38 such rounds of a whole check each came before the near-merge that cleared them.
 //! 5. **Push through thin layers** ([`layers`]): two crossing faces that face opposite ways,
 //!    with corners of one within a few ulps behind the other's plane, bound a layer of
 //!    material thinner than the grid (a chain such as `(A ∪ B) − B` through a file, where a
@@ -322,6 +325,10 @@ fn certify_rounds(
     let mut rounds_at_level = 0;
     let work = std::cell::Cell::new(0u64);
     let mut pushing_refused = false;
+    // The problems' size before the last round that dissolved slivers, and whether the
+    // near-merge was tried early in this attempt (see below).
+    let mut dissolved_from: Option<usize> = None;
+    let mut merged_early = false;
     for round in 0..MAX_ITERATIONS {
         if round > 0 {
             counter.advance(1);
@@ -337,6 +344,8 @@ fn certify_rounds(
         if certificate.rounds >= MAX_REFINEMENTS {
             return Err(CertifyError::not_certified(&problems));
         }
+        let dissolving_stalls =
+            (dissolved_from.take()).is_some_and(|before| problems.size() >= before);
         if !problems.coincident.is_empty() {
             // Two exact points rounded to one f64 point: they are one vertex of the f64
             // mesh; the faces between them collapse.
@@ -371,6 +380,21 @@ fn certify_rounds(
             certificate.record_snap(count, displacement);
             continue;
         }
+        // Where dissolving slivers left as many problems as before (it takes the slivers
+        // around every problem vertex, not only the problem's), the near-merge is tried
+        // before it goes on, once an attempt: on a CAD model's fans of long triangles through
+        // binary STL, the dissolving went on for 38 rounds of a whole check each with the
+        // problems unchanged before the near-merge, tried after it, cleared them.
+        if merge_near && dissolving_stalls && !merged_early {
+            merged_early = true;
+            if let Some((merged, count, displacement)) =
+                near_merged(&mesh, &moved, &problems, precision)
+            {
+                certificate.record_snap(count, displacement);
+                (mesh, moved) = merged;
+                continue;
+            }
+        }
         // Faces thinner than the f64 grid fold whatever their corners' rounding: they go.
         let diagonal = diagonal_of(mesh.positions());
         let tolerances = sliver_levels.map(|level| grid_step(mesh.positions(), level, precision));
@@ -379,22 +403,16 @@ fn certify_rounds(
             certificate.dissolved_slivers += done.changes;
             let relative = relative_to(done.displacement, diagonal);
             certificate.max_snap_displacement = certificate.max_snap_displacement.max(relative);
+            dissolved_from = Some(problems.size());
             continue;
         }
         if merge_near {
-            // Kept only where it leaves fewer problems: merging vertices of two surfaces an
-            // ulp apart pinches them.
-            let tolerance = grid_step(mesh.positions(), NEAR_LEVEL, precision);
-            let mut merged = mesh.clone();
-            let (count, displacement) = self::merge_near(&mut merged, &problems.to_snap, tolerance);
-            if count > 0 {
-                let (merged, merged_moved) = merge_coincident(merged, &moved);
-                let after = find_problems(&merged, &merged_moved);
-                if after.size() < problems.size() {
-                    certificate.record_snap(count, displacement);
-                    (mesh, moved) = (merged, merged_moved);
-                    continue;
-                }
+            if let Some((merged, count, displacement)) =
+                near_merged(&mesh, &moved, &problems, precision)
+            {
+                certificate.record_snap(count, displacement);
+                (mesh, moved) = merged;
+                continue;
             }
         }
         if !pushing_refused {
@@ -488,6 +506,27 @@ fn certify_rounds(
         return Ok((mesh, certificate));
     }
     Err(CertifyError::not_certified(&problems))
+}
+
+/// [`merge_near`] on a copy of `mesh` with its `problems`, then the coincident vertices
+/// merged: the mesh and its moved vertices, the vertices merged and the largest move, kept
+/// only where it leaves fewer problems (merging vertices of two surfaces an ulp apart
+/// pinches them).
+fn near_merged(
+    mesh: &Mesh,
+    moved: &[bool],
+    problems: &Problems,
+    precision: Precision,
+) -> Option<((Mesh, Vec<bool>), usize, f64)> {
+    let tolerance = grid_step(mesh.positions(), NEAR_LEVEL, precision);
+    let mut merged = mesh.clone();
+    let (count, displacement) = merge_near(&mut merged, &problems.to_snap, tolerance);
+    if count == 0 {
+        return None;
+    }
+    let (merged, merged_moved) = merge_coincident(merged, moved);
+    let after = find_problems(&merged, &merged_moved);
+    (after.size() < problems.size()).then_some(((merged, merged_moved), count, displacement))
 }
 
 /// `mesh`, free of problems, without the closed shells through a moved vertex that are
