@@ -207,12 +207,13 @@ fn pairs_from_one_walk(
         let full = || (triangle(i as usize), triangle(j as usize));
         counts(&sorted[x as usize], &sorted[y as usize], full).then(|| (i.min(j), i.max(j)))
     };
+    let few_marked = marked.is_some_and(|marked| 2 * marked.len() < count);
     let mut pairs = match &is_marked {
         // Few marked among many: a tree of the marked walked against the whole one passes by
         // the pairs of two unmarked triangles, which the self walk meets and then skips. On a
         // CAD model whose fans of long triangles cross the whole part, the self walk met 34
         // million box pairs to test 8 million.
-        Some(is_marked) if 2 * marked.map_or(0, <[u32]>::len) < count => {
+        Some(is_marked) if few_marked => {
             let places: Vec<u32> = (0..count as u32)
                 .filter(|&x| is_marked[x as usize])
                 .collect();
