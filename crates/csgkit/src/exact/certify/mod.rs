@@ -220,7 +220,7 @@ pub(crate) struct Certificate {
 #[derive(Debug, Default)]
 struct Problems {
     /// Face pairs that cross.
-    crossing_pairs: usize,
+    pairs: Vec<(u32, u32)>,
     /// Faces whose corners are exactly collinear (distinct positions).
     degenerate_faces: usize,
     /// The vertices to snap: those of crossing and degenerate faces, sorted, without repeats.
@@ -232,13 +232,11 @@ struct Problems {
     /// corners, but the sheet doubles the uses of its edges and has no inside for the next
     /// boolean to sample.
     sheets: Vec<[u32; 2]>,
-    /// The crossing face pairs, `crossing_pairs` of them.
-    pairs: Vec<(u32, u32)>,
 }
 
 impl Problems {
     fn is_empty(&self) -> bool {
-        self.crossing_pairs == 0
+        self.pairs.is_empty()
             && self.degenerate_faces == 0
             && self.coincident.is_empty()
             && self.sheets.is_empty()
@@ -247,7 +245,7 @@ impl Problems {
     /// Crossing pairs, degenerate faces and sheets: what a repair that keeps only where it
     /// leaves fewer problems compares.
     fn size(&self) -> usize {
-        self.crossing_pairs + self.degenerate_faces + self.sheets.len()
+        self.pairs.len() + self.degenerate_faces + self.sheets.len()
     }
 }
 
@@ -274,7 +272,7 @@ impl From<Cancelled> for CertifyError {
 impl CertifyError {
     fn not_certified(problems: &Problems) -> Self {
         CertifyError::NotCertified {
-            crossing_pairs: problems.crossing_pairs,
+            crossing_pairs: problems.pairs.len(),
             degenerate_faces: problems.degenerate_faces,
         }
     }
@@ -385,7 +383,8 @@ fn certify_rounds(
         // before it goes on, once an attempt: on a CAD model's fans of long triangles through
         // binary STL, the dissolving went on for 38 rounds of a whole check each with the
         // problems unchanged before the near-merge, tried after it, cleared them.
-        if merge_near && dissolving_stalls && !merged_early {
+        let merge_first = merge_near && dissolving_stalls && !merged_early;
+        if merge_first {
             merged_early = true;
             if let Some((merged, count, displacement)) =
                 near_merged(&mesh, &moved, &problems, precision)
@@ -406,7 +405,8 @@ fn certify_rounds(
             dissolved_from = Some(problems.size());
             continue;
         }
-        if merge_near {
+        // (Not again in the round where it was tried first: the mesh is the same.)
+        if merge_near && !merge_first {
             if let Some((merged, count, displacement)) =
                 near_merged(&mesh, &moved, &problems, precision)
             {
@@ -729,7 +729,6 @@ fn problems_among(
     to_snap.sort_unstable();
     to_snap.dedup();
     Problems {
-        crossing_pairs: pairs.len(),
         degenerate_faces: degenerate.len(),
         to_snap,
         coincident,
@@ -1153,20 +1152,19 @@ fn neighbourhood_vertices(mesh: &Mesh, vertices: &[u32]) -> Vec<u32> {
 /// coordinate magnitude; returns the largest displacement relative to the diagonal of the
 /// mesh's bounding box.
 fn snap(mesh: &mut Mesh, vertices: &[u32], level: i32, precision: Precision) -> f64 {
-    let mut parts = std::mem::take(mesh).into_parts();
-    let diagonal = diagonal_of(&parts.positions);
     // A power of two, so x / step, its rounding and the product back are exact.
-    let step = grid_step(&parts.positions, level, precision);
-    let mut displacement = 0.0f64;
-    for &v in vertices {
-        let p = &mut parts.positions[v as usize];
-        let q = p.map(|x| (x / step).round() * step);
-        let d = distance(q, *p);
-        displacement = displacement.max(d);
-        *p = q;
-    }
-    *mesh = Mesh::from_parts(parts).expect("snapping changes positions only");
-    relative_to(displacement, diagonal)
+    let step = grid_step(mesh.positions(), level, precision);
+    let moves: Vec<(u32, Point3)> = (vertices.iter())
+        .map(|&v| {
+            (
+                v,
+                mesh.positions()[v as usize].map(|x| (x / step).round() * step),
+            )
+        })
+        .collect();
+    let (snapped, displacement) = moved_to(std::mem::take(mesh), &moves);
+    *mesh = snapped;
+    displacement
 }
 
 /// `2^level` ulps of `precision` at the largest coordinate magnitude of `positions`:
@@ -1340,7 +1338,7 @@ mod tests {
         let mut moved = vec![false; 16];
         moved[8..].iter_mut().for_each(|m| *m = true);
         let problems = find_problems(&mesh, &moved);
-        assert!(problems.crossing_pairs > 0);
+        assert!(!problems.pairs.is_empty());
         assert!(
             problems.to_snap.iter().any(|&v| v < 8) && problems.to_snap.iter().any(|&v| v >= 8)
         );
@@ -1376,7 +1374,7 @@ mod tests {
         let mut mesh = Mesh::from_triangles(positions, &[[0, 1, 2], [1, 0, 3]]).expect("in range");
         let moved = [false, false, false, true];
         let problems = find_problems(&mesh, &moved);
-        assert_eq!(problems.crossing_pairs, 1);
+        assert_eq!(problems.pairs.len(), 1);
         let work = std::cell::Cell::new(0);
         let (count, displacement) = reround(
             &mut mesh,
