@@ -18,6 +18,8 @@
 
 use crate::par::*;
 
+use std::ops::RangeInclusive;
+
 use super::Aabb;
 
 /// The largest grid side: 128³ cells (a 256 KB bitset), cell indices of 7 bits per axis.
@@ -130,7 +132,12 @@ impl Occupancy {
                     let b = box_of(i);
                     if b.overlaps(frame) {
                         *span = grid.span(&b);
-                        grid.for_each_cell(*span, |c| bits[c / 64] |= 1 << (c % 64));
+                        grid.any_row(*span, |row| {
+                            for (w, mask) in row_words(row) {
+                                bits[w] |= mask;
+                            }
+                            false
+                        });
                     }
                 }
                 bits
@@ -154,23 +161,35 @@ impl Occupancy {
     /// Whether a box covering `span` (of a grid with this frame and side) overlaps a marked
     /// cell: always when it overlaps a marked box (see the module docs), rarely otherwise.
     pub fn touches(&self, span: CellSpan) -> bool {
-        let mut found = false;
-        if span != CellSpan::NONE {
-            self.for_each_cell(span, |c| found |= self.bits[c / 64] >> (c % 64) & 1 == 1);
-        }
-        found
+        span != CellSpan::NONE
+            && self.any_row(span, |row| {
+                row_words(row).any(|(w, mask)| self.bits[w] & mask != 0)
+            })
     }
 
-    /// Calls `visit` with the index `x + side (y + side z)` of every cell in `span`.
-    fn for_each_cell(&self, span: CellSpan, mut visit: impl FnMut(usize)) {
+    /// Calls `visit` with each row of cells in `span` (the cells along x at one y and z,
+    /// whose indices `x + side (y + side z)` are consecutive), until it returns `true`;
+    /// whether one did.
+    ///
+    /// Why rows: a row is at most three words of the bitset, read or set with a mask, where
+    /// cell by cell a large box (a long face of a model on a grid sized to the small pieces
+    /// along a curve) costs one step per cell, and a box that touches stops at the first
+    /// marked row.
+    fn any_row(
+        &self,
+        span: CellSpan,
+        mut visit: impl FnMut(RangeInclusive<usize>) -> bool,
+    ) -> bool {
         let [(x0, x1), (y0, y1), (z0, z1)] = span.bounds();
         for z in z0..=z1 {
             for y in y0..=y1 {
-                for x in x0..=x1 {
-                    visit(x + self.side * (y + self.side * z));
+                let start = self.side * (y + self.side * z);
+                if visit(start + x0..=start + x1) {
+                    return true;
                 }
             }
         }
+        false
     }
 
     /// The cell index of coordinate `x` on axis `k`: monotone in `x`.
@@ -178,6 +197,16 @@ impl Occupancy {
         // `as` saturates: below the frame (or NaN) is cell 0.
         (((x - self.frame_min[k]) * self.scale[k]) as usize).min(self.side - 1)
     }
+}
+
+/// The words of a bitset that hold the bits `cells`, each with the mask of those bits in it.
+fn row_words(cells: RangeInclusive<usize>) -> impl Iterator<Item = (usize, u64)> {
+    let (first, last) = (*cells.start(), *cells.end());
+    (first / 64..=last / 64).map(move |w| {
+        let low = if w == first / 64 { first % 64 } else { 0 };
+        let high = if w == last / 64 { last % 64 } else { 63 };
+        (w, (u64::MAX >> (63 - high)) & (u64::MAX << low))
+    })
 }
 
 #[cfg(test)]
@@ -218,6 +247,40 @@ mod tests {
                 let meets = b.iter().any(|y| y.overlaps(x) && y.overlaps(&frame));
                 let touches = marked.touches(marked.span(x));
                 prop_assert!(!meets || touches, "{x:?} overlaps a marked box");
+            }
+        }
+    }
+
+    proptest! {
+        /// Marking and reading by rows of cells (masks over words) mark and read exactly
+        /// the cells of each span, on grids whose rows cross word boundaries.
+        #[test]
+        fn rows_mark_and_read_exactly_the_cells_of_a_span(
+            a in boxes(),
+            b in boxes(),
+            side in 1usize..=MAX_SIDE,
+        ) {
+            let frame = Aabb {
+                min: [-2.0; 3],
+                max: [2.5; 3],
+            };
+            let (marked, spans) = Occupancy::of(&frame, side, b.len(), |i| b[i]);
+            let cells = |span: CellSpan| {
+                let [(x0, x1), (y0, y1), (z0, z1)] = span.bounds();
+                let side = marked.side;
+                (z0..=z1).flat_map(move |z| {
+                    (y0..=y1).flat_map(move |y| (x0..=x1).map(move |x| x + side * (y + side * z)))
+                })
+            };
+            let expected: std::collections::HashSet<usize> = (spans.iter())
+                .filter(|&&span| span != CellSpan::NONE)
+                .flat_map(|&span| cells(span))
+                .collect();
+            let set = (0..side * side * side).filter(|&c| marked.bits[c / 64] >> (c % 64) & 1 == 1);
+            prop_assert_eq!(set.collect::<std::collections::HashSet<_>>(), expected.clone());
+            for x in &a {
+                let span = marked.span(x);
+                prop_assert_eq!(marked.touches(span), cells(span).any(|c| expected.contains(&c)));
             }
         }
     }
