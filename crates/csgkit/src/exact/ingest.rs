@@ -208,15 +208,24 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
 
     // Each operand's triangles are written once, in place (an indexed parallel extend); the
     // exactly degenerate ones, rare, stay `None` until one in-place pass takes them out.
-    let mut made_faces: (Vec<FaceId>, Vec<Option<IndexedTriangle>>) = Default::default();
-    let mut operand = Vec::new();
+    let triangulations = (operands.iter().enumerate())
+        .map(|(k, mesh)| {
+            triangulate_faces(mesh)
+                .map_err(|error| InvalidOperand::InvalidPolygon { operand: k, error })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    // Sized for all operands at once: grown operand by operand, the second one's triangles
+    // moved the first one's to a new block (two 100 k-triangle spheres: 4.3 ms for the
+    // second against 2.6 for the first).
+    let total: usize = triangulations.iter().map(|t| t.len()).sum();
+    let mut made_faces: (Vec<FaceId>, Vec<Option<IndexedTriangle>>) =
+        (Vec::with_capacity(total), Vec::with_capacity(total));
+    let mut operand = Vec::with_capacity(total);
     let mut degenerate = Vec::new();
     let mut vertex_offset = 0usize;
-    for (k, mesh) in operands.iter().enumerate() {
+    for (k, (mesh, triangulation)) in operands.iter().zip(&triangulations).enumerate() {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
         let welded = |corners: [u32; 3]| corners.map(|v| remap[v as usize]);
-        let triangulation = triangulate_faces(mesh)
-            .map_err(|error| InvalidOperand::InvalidPolygon { operand: k, error })?;
         let start = made_faces.1.len();
         made_faces.par_extend(triangulation.par_iter().map(|(f, corners)| {
             let ids = welded(corners);
