@@ -466,7 +466,11 @@ fn link_edges(
                 .flat_map(|&(_, t)| (0..3).map(move |i| [t[i], t[(i + 1) % 3]]))
                 .filter(|&[a, b]| a != b)
                 .collect();
-            link_operand(input, k, &flat, own)
+            // The welded ids of the operand's own vertices bound the ids its sides use,
+            // read from its vertices rather than from three times as many sides.
+            let ids = remap[offsets[k]..offsets[k + 1]].iter().copied();
+            let (lowest, highest) = ids.fold((u32::MAX, 0), |(lo, hi), v| (lo.min(v), hi.max(v)));
+            link_operand(input, k, &flat, (lowest, highest), own)
         })
         .collect();
     if let Some(k) = unbalanced.iter().position(|u| u.count > 0) {
@@ -499,8 +503,15 @@ struct Unbalanced {
 /// Counts the uses of every edge of operand `k` in each direction, its triangles' sides and
 /// then the `flat` sides of its degenerate triangles, and links the sides of each edge used
 /// exactly twice, once each way: `neighbours[3 t + i]` (`t` counted from the operand's first
-/// triangle) becomes the triangle across side `i` of `t`.
-fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]], neighbours: &mut [u32]) -> Unbalanced {
+/// triangle) becomes the triangle across side `i` of `t`. Every side's ends lie in
+/// `lowest..=highest`.
+fn link_operand(
+    input: &Input,
+    k: usize,
+    flat: &[[u32; 2]],
+    (lowest, highest): (u32, u32),
+    neighbours: &mut [u32],
+) -> Unbalanced {
     /// Buckets per parallel task when sorting them.
     const BLOCK: usize = 1 << 12;
     let range = input.operand_triangles(k);
@@ -515,22 +526,16 @@ fn link_operand(input: &Input, k: usize, flat: &[[u32; 2]], neighbours: &mut [u3
     };
     // One record per side, bucketed by its smaller vertex (a counting sort: linear, unlike one
     // sort of all sides), then each small bucket sorted by its larger vertex. Buckets span the
-    // operand's own smaller ends only (each operand's vertices are mostly a range of the
+    // operand's own vertex ids only (each operand's vertices are mostly a range of the
     // welded ids, so two operands do not each pass over all of them). `bounds[b + 1]` counts
     // bucket `b`, then (summed) is where it starts; placing a side moves its bucket's start
     // one on, so that afterwards `bounds[b]` is where bucket `b` ends.
     let all_sides = side_count + flat.len();
-    let smaller = |side: usize| {
-        let [a, b] = ends(side);
-        a.min(b)
-    };
-    let (lowest, highest) = (0..all_sides)
-        .map(smaller)
-        .fold((u32::MAX, 0), |(lo, hi), v| (lo.min(v), hi.max(v)));
     let bucket_count = (highest as usize + 1).saturating_sub(lowest as usize);
     let mut bounds = vec![0u32; bucket_count + 1];
     for side in 0..all_sides {
-        bounds[(smaller(side) - lowest) as usize + 1] += 1;
+        let [a, b] = ends(side);
+        bounds[(a.min(b) - lowest) as usize + 1] += 1;
     }
     for b in 1..bounds.len() {
         bounds[b] += bounds[b - 1];
