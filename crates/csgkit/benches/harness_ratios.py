@@ -61,7 +61,7 @@ def main():
             print(f"| {name} | {mine} | {theirs} | {'%.2f×' % ratio if ratio else '—'} |")
     if ratios:
         geo = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
-        print(f"\nGeometric mean over {len(ratios)} cases: {geo:.2f}×; worst {max(ratios):.2f}×; "
+        print(f"\nGeometric mean over {len(ratios)} cases: {geo:.3f}×; worst {max(ratios):.2f}×; "
               f"cases above 1.5×: {sum(r > 1.5 for r in ratios)}")
     if plot_path:
         plot(results, plot_path)
