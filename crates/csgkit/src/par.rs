@@ -220,13 +220,14 @@ mod parallel {
     /// thousand faces runs dozens of loops of tens of microseconds between short serial
     /// steps. With one worker kept awake through the run, as OpenMP runtimes keep theirs
     /// spinning between parallel regions, the fresh CLI's op on sphere_sphere_10k_union took
-    /// 6.73 ms against 7.33, pair_ball_union 4.11 against 4.33, sphere_sphere_100k the same
-    /// (medians of 9 interleaved runs, 2 cores). Only one worker, so a many-core machine
-    /// does not burn all its cores on the serial steps, and only for runs entered from
-    /// outside the pool: a run on a worker (one of several a caller runs side by side)
-    /// already has the pool busy. The patience bounds the spin through a long serial step,
-    /// and bounds the wait should the run's own thread take this job itself while it waits
-    /// for a stolen half (the job is the oldest on its queue, which thieves take first).
+    /// 6.82 ms against 7.61, pair_ball_union 4.08 against 4.44, sphere_sphere_100k_intersection
+    /// 44.1 against 48.1, sphere_sphere_1M_union the same (medians of 9 interleaved runs, 2
+    /// cores). Only one worker, so a many-core machine does not burn all its cores on the
+    /// serial steps, and only for runs entered from outside the pool: a run on a worker (one
+    /// of several a caller runs side by side) already has the pool busy. The patience bounds
+    /// the spin through a long serial step, and bounds the wait should the run's own thread
+    /// take this job itself while it waits for a stolen half (the job is the oldest on its
+    /// queue, which thieves take first).
     fn help_until(run_ended: &AtomicBool) {
         let mut last_work = web_time::Instant::now();
         while !run_ended.load(Ordering::Relaxed) {
