@@ -184,27 +184,25 @@ mod parallel {
                 if from_outside && rayon::current_num_threads() > 1 {
                     scope.spawn(|_| help_until(&run_ended));
                 }
-                /// Ends the helper's wait when the run ends, by return or by unwinding.
-                struct Ended<'a>(&'a AtomicBool);
-                impl Drop for Ended<'_> {
-                    fn drop(&mut self) {
-                        self.0.store(true, Ordering::Relaxed);
-                    }
-                }
-                let _ended = Ended(&run_ended);
+                // Ends the helper's wait when the run ends, by return or by unwinding.
+                let _ended = OnDrop(|| run_ended.store(true, Ordering::Relaxed));
                 f()
             });
         }
-        /// Clears the flag when the run ends, by return or by unwinding.
-        struct Reset;
-        impl Drop for Reset {
-            fn drop(&mut self) {
-                INLINE.set(false);
-            }
-        }
         INLINE.set(true);
-        let _reset = Reset;
+        // Clears the flag when the run ends, by return or by unwinding.
+        let _reset = OnDrop(|| INLINE.set(false));
         f()
+    }
+
+    /// Calls its closure when dropped: what a run does at its end, by return or by
+    /// unwinding.
+    struct OnDrop<F: FnMut()>(F);
+
+    impl<F: FnMut()> Drop for OnDrop<F> {
+        fn drop(&mut self) {
+            (self.0)();
+        }
     }
 
     /// How long [`help_until`] waits for work before it lets its worker sleep.

@@ -174,7 +174,9 @@ impl Occupancy {
     /// Why rows: a row is at most three words of the bitset, read or set with a mask, where
     /// cell by cell a large box (a long face of a model on a grid sized to the small pieces
     /// along a curve) costs one step per cell, and a box that touches stops at the first
-    /// marked row.
+    /// marked row. A visitor rather than an iterator of rows, which marking would simply
+    /// loop over: chained `flat_map`s over the rows took the broad phase of two 10 k
+    /// triangle spheres from 857 to 964 µs (warm medians).
     fn any_row(
         &self,
         span: CellSpan,
