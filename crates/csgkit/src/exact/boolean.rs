@@ -423,9 +423,9 @@ fn exact_result(
     stats.input_triangles = input.triangles.len();
     clock.end(Stage::Ingest)?;
 
-    // The trees the self-intersection check keeps (where the winding classification will
-    // cast a ray per patch) serve classification's rays; the others are built before the
-    // rays that need them.
+    // The trees the self-intersection check keeps (both of two operands, and where the
+    // winding classification will cast a ray per patch) serve the broad phase and
+    // classification's rays; the others are built before the rays that need them.
     let (self_pairs, general, trees) = if options.check_self_intersections {
         let (pairs, trees) = match suspects {
             None => ingest::self_intersecting_pairs(&input, progress)?,
@@ -448,7 +448,7 @@ fn exact_result(
     stats.self_intersecting_pairs = self_pairs.len();
     stats.winding_classification = general;
 
-    let mut pairs = broad::candidate_pairs(&input);
+    let mut pairs = broad::candidate_pairs(&input, &trees);
     if !self_pairs.is_empty() {
         pairs.extend(self_pairs);
         pairs.sort_unstable();

@@ -608,10 +608,11 @@ fn signed_volume(input: &Input, k: usize) -> f64 {
 /// [`self_intersections`](super::self_intersections), whose pairs the driver adds to the
 /// arrangement. Each operand checked is reported to `progress`.
 ///
-/// Also returns the trees over each operand's triangles that the check walked, from the
-/// first operand found to intersect itself on (or all, for operands with repeated faces):
-/// those the winding classification will query again ([`TriangleTrees`]). The others go,
-/// so that a check of large simple operands holds one tree at a time.
+/// Also returns the trees over each operand's triangles that the check walked where they
+/// will serve again ([`TriangleTrees`]): both of two operands, which the broad phase walks
+/// against each other, and otherwise those from the first operand found to intersect itself
+/// on (or all, for operands with repeated faces), which the winding classification queries.
+/// The others go, so that a check of many large simple operands holds one tree at a time.
 ///
 /// # Errors
 /// [`Cancelled`] when the run was cancelled.
@@ -629,8 +630,7 @@ pub(crate) fn self_intersecting_pairs<'a>(
             input.triangle(range.start + i)
         });
         all.extend(pairs.into_iter().map(|(s, t)| (s + offset, t + offset)));
-        if input.has_repeats || !all.is_empty() {
-            // The winding classification will run.
+        if input.operand_count() == 2 || input.has_repeats || !all.is_empty() {
             trees.keep(k, tree);
         }
         counter.advance(1);
@@ -641,7 +641,8 @@ pub(crate) fn self_intersecting_pairs<'a>(
 }
 
 /// A tree over the boxes of each operand's triangles, for queries over every triangle (the
-/// winding classification's rays, one per patch). The self-intersection check keeps the
+/// winding classification's rays, one per patch, and the broad phase of two operands, where
+/// both exist). The self-intersection check keeps the
 /// trees it built when they will serve ([`self_intersecting_pairs`]); the first query builds
 /// the others. Classification building a tree of its own over all triangles cost as much as
 /// the rest of its work on dragon − offset (200 k triangles, 100 rays).
@@ -664,6 +665,11 @@ impl<'a> TriangleTrees<'a> {
     fn keep(&self, k: usize, tree: Bvh) {
         // A tree that is already there is the same tree.
         let _ = self.trees[k].set(tree);
+    }
+
+    /// Operand `k`'s tree if it exists, without building it.
+    pub(crate) fn built(&self, k: usize) -> Option<&Bvh> {
+        self.trees.get(k).and_then(std::sync::OnceLock::get)
     }
 
     /// Whether every tree exists (a query costs no build).
