@@ -128,22 +128,18 @@ impl Walk<'_> {
         if self.a.is_empty() || self.b.is_empty() {
             return Vec::new();
         }
-        let from = |pair: (usize, usize), out: &mut Vec<T>| {
-            self.descend(pair, &mut |i, j| out.extend(f(i, j)));
+        // One thread has nothing to share: its frontier is the roots' pair alone.
+        let target = if current_num_threads() == 1 {
+            1
+        } else {
+            FRONTIER_TARGET
         };
-        if current_num_threads() == 1 {
-            let mut all = Vec::new();
-            if self.nodes_overlap(0, 0) {
-                from((0, 0), &mut all);
-            }
-            return all;
-        }
-        let frontier = self.frontier(FRONTIER_TARGET);
+        let frontier = self.frontier(target);
         let parts: Vec<Vec<T>> = frontier
             .par_iter()
             .map(|&pair| {
                 let mut out = Vec::new();
-                from(pair, &mut out);
+                self.descend(pair, &mut |i, j| out.extend(f(i, j)));
                 out
             })
             .collect();
