@@ -260,7 +260,7 @@ pub fn box_union_timed(
 /// same time, the exact stages after it (on the pool) longer.
 const BOX_SIZE: usize = 128;
 
-/// [`box_union_timed`]'s stages, on the thread it chose.
+/// [`box_union_timed`]'s stages, on the thread [`crate::par::on_pool_or_inline`] chose.
 fn sweep_and_link(
     boxes: &[[f64; 6]],
     materials: Option<&[u32]>,
@@ -300,13 +300,16 @@ pub fn box_union_mesh(
     options: MeshOptions,
     progress: &Progress,
 ) -> Result<(MeshOutput, Vec<(Stage, f64)>), OrthoError> {
-    let (brep, mut stage_seconds) = box_union_timed(boxes, materials, progress)?;
-    let mut clock = StageClock::new(progress);
-    let size = BOX_SIZE * boxes.len();
-    let out = crate::par::on_pool_or_inline(size, || brep.to_mesh(options))?;
-    clock.end(Stage::Triangulate)?;
-    stage_seconds.extend(clock.into_seconds());
-    Ok((out, stage_seconds))
+    // One entry for the whole run, the union and its mesh: a run on the pool is handed over
+    // once, as the exact boolean is.
+    crate::par::on_pool_or_inline(BOX_SIZE * boxes.len(), || {
+        let (brep, mut stage_seconds) = sweep_and_link(boxes, materials, progress)?;
+        let mut clock = StageClock::new(progress);
+        let out = brep.to_mesh(options)?;
+        clock.end(Stage::Triangulate)?;
+        stage_seconds.extend(clock.into_seconds());
+        Ok((out, stage_seconds))
+    })
 }
 
 /// Computes the B-rep of the union of `boxes`, box `i` being made of material
