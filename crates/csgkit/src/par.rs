@@ -43,7 +43,6 @@ pub(crate) trait ParallelSliceMut<T> {
     where
         F: Fn(&T, &T) -> std::cmp::Ordering + Sync;
     fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
-    fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
 }
 
 /// How long a loop of costly items in a run that runs inline goes on here before it judges
@@ -317,13 +316,6 @@ mod parallel {
                 rayon::slice::ParallelSliceMut::par_sort_unstable_by_key(self, key);
             }
         }
-        fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F) {
-            if sorts_inline(self.len()) {
-                self.sort_by_key(key);
-            } else {
-                rayon::slice::ParallelSliceMut::par_sort_by_key(self, key);
-            }
-        }
     }
 
     /// Whether a sort of `len` items runs on this thread with the standard library's sort.
@@ -529,9 +521,6 @@ mod sequential {
         }
         fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F) {
             self.sort_unstable_by_key(key);
-        }
-        fn par_sort_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F) {
-            self.sort_by_key(key);
         }
     }
 

@@ -118,10 +118,18 @@ pub(crate) fn intersect_pairs(
     counter.finish()?;
     let intersecting_pairs = found.iter().map(|f| f.intersecting_pairs).sum();
     let (marks, points): (Vec<_>, Vec<_>) = found.into_iter().map(|f| (f.marks, f.points)).unzip();
-    let mut marks = marks.concat();
-    // Grouped by triangle, and within a triangle in pair order (a stable sort of marks in
-    // pair order), which is deterministic.
-    marks.par_sort_by_key(|m| m.0);
+    let marks = marks.concat();
+    // Grouped by triangle, and within a triangle in pair order, which is deterministic. The
+    // keys (triangle, place in pair order) are distinct, so their unstable sort orders like a
+    // stable sort of the marks, and moves 8 bytes an item where a mark is 64: on two unit
+    // cubes the stable sort of the marks was 7 % of the boolean.
+    let mut order: Vec<u64> = (marks.iter().enumerate())
+        .map(|(place, &(t, _))| u64::from(t) << 32 | place as u64)
+        .collect();
+    order.par_sort_unstable();
+    let marks = (order.iter())
+        .map(|&key| marks[(key & u64::from(u32::MAX)) as usize])
+        .collect();
     Ok(Contacts {
         intersecting_pairs,
         marks,
