@@ -220,7 +220,11 @@ impl EdgeGroups {
                 })
             })
             .collect();
-        records.par_sort_unstable_by_key(|r| (r.key, r.operand, r.face));
+        // By (key, operand, face), as one 128-bit number: one comparison where the tuple
+        // took three.
+        records.par_sort_unstable_by_key(|r| {
+            u128::from(r.key) << 64 | u128::from(r.operand) << 32 | u128::from(r.face)
+        });
         let mut starts: Vec<u32> = (0..records.len())
             .filter(|&i| i == 0 || records[i].key != records[i - 1].key)
             .map(|i| i as u32)
