@@ -186,9 +186,13 @@ impl Walk<'_> {
             if self.is_leaf_pair(pair) {
                 self.leaf_pairs(pair, visit);
             } else {
-                // Pushed last to first, so they come off first to last.
+                // Pushed last to first, so they come off first to last; a `push` each, where
+                // `SmallVec::extend` (a reservation, then its iterator) took 68 instructions a
+                // node pair, about 1 % of a boolean of two 1 k spheres.
                 let (children, count) = self.children(pair);
-                stack.extend(children[..count].iter().rev().copied());
+                for &child in children[..count].iter().rev() {
+                    stack.push(child);
+                }
             }
         }
     }
