@@ -129,7 +129,7 @@ pub(crate) fn intersect_pairs(
         .collect();
     order.par_sort_unstable();
     let marks = (order.iter())
-        .map(|&key| marks[(key & u64::from(u32::MAX)) as usize])
+        .map(|&key| marks[key as u32 as usize])
         .collect();
     Ok(Contacts {
         intersecting_pairs,
