@@ -171,7 +171,7 @@ fn bench_kernel(c: &mut Criterion) {
     let lpi_own: Vec<([Point3; 3], Point)> = lpi_random
         .iter()
         .map(|(_, p)| match p {
-            Point::Lpi(l) => (l.definition().2, *p),
+            Point::Lpi(l) => (l.definition().2, p.clone()),
             _ => unreachable!("random_lpi builds LPIs"),
         })
         .collect();
@@ -225,8 +225,8 @@ fn bench_kernel(c: &mut Criterion) {
                 let pts: Vec<Point> = (0..3)
                     .filter_map(|_| Point::lpi(p, q, r.ip3(), r.ip3(), r.ip3()))
                     .collect();
-                if pts.len() == 3 {
-                    break [pts[0], pts[1], pts[2]];
+                if let Ok(three) = <[Point; 3]>::try_from(pts) {
+                    break three;
                 }
             }
         })
@@ -257,7 +257,10 @@ fn bench_kernel(c: &mut Criterion) {
         .map(|(_, p)| match p {
             Point::Lpi(l) => {
                 let (a, b, _) = l.definition();
-                [*p, Point::Explicit([0, 1, 2].map(|i| (a[i] + b[i]) * 0.5))]
+                [
+                    p.clone(),
+                    Point::Explicit([0, 1, 2].map(|i| (a[i] + b[i]) * 0.5)),
+                ]
             }
             _ => unreachable!("lpi_on_plane builds LPIs"),
         })

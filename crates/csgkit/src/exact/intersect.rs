@@ -274,7 +274,7 @@ pub enum PointKey {
 }
 
 /// A point where two triangles `a` and `b` touch or cross.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Contact {
     /// The point, exact: an input vertex or an implicit point.
     pub point: Point,
@@ -422,7 +422,7 @@ impl Boundary {
 }
 
 /// An end of a chord: a point of triangle `x` on the other's plane.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct End {
     point: Point,
     own: Boundary,
@@ -466,9 +466,7 @@ fn swapped(c: Contact) -> Contact {
 
 /// The chord of `t` on the plane of `other` (signs `s`), as two ends (equal for a point).
 ///
-/// The ends' places are found first and each point is built where it goes: a kernel point is
-/// a few hundred bytes, and moving ends through temporaries was a tenth of the time of a
-/// boolean of two unit cubes.
+/// The ends' places are found first and each point is built once, where it goes.
 fn chord(t: &Triangle, s: &[Sign; 3], other: &Triangle) -> Option<[End; 2]> {
     // A vertex on the plane, or an edge with ends on strictly opposite sides: at most two
     // (three would need all three vertices on the plane, the coplanar case).
@@ -496,7 +494,7 @@ fn chord(t: &Triangle, s: &[Sign; 3], other: &Triangle) -> Option<[End; 2]> {
     };
     match n {
         0 => None,
-        1 => end(owns[0]).map(|x| [x, x]),
+        1 => end(owns[0]).map(|x| [x.clone(), x]),
         _ => Some([end(owns[0])?, end(owns[1])?]),
     }
 }
@@ -528,8 +526,8 @@ fn on_chord(
     }
 }
 
-/// A chord's ends by reference, the first first along the axis given their `order` there: a
-/// swap would move two kernel points of a few hundred bytes each.
+/// A chord's ends by reference, the first first along the axis given their `order` there:
+/// no point is moved or cloned.
 fn in_order(c: &[End; 2], order: Ordering) -> [&End; 2] {
     if order == Ordering::Greater {
         [&c[1], &c[0]]
@@ -629,8 +627,8 @@ fn merged(
     theirs: Option<&Point>,
 ) -> Contact {
     let point = match theirs {
-        Some(p) if !end.point.is_explicit() => *p,
-        _ => end.point,
+        Some(p) if !end.point.is_explicit() => p.clone(),
+        _ => end.point.clone(),
     };
     contact(x, end.own, y, other, point)
 }
@@ -709,13 +707,17 @@ fn coplanar(a: &Triangle, b: &Triangle) -> Intersection {
             }
         }
     }
-    match corners.as_slice() {
-        [] => Intersection::Disjoint,
-        [c] => Intersection::TouchingPoint(*c),
-        [c, d] => match compare_lex(&c.point, &d.point) {
-            Ordering::Greater => Intersection::TouchingSegment([*d, *c]),
-            _ => Intersection::TouchingSegment([*c, *d]),
-        },
+    match corners.len() {
+        0 => Intersection::Disjoint,
+        1 => Intersection::TouchingPoint(corners.swap_remove(0)),
+        2 => {
+            let d = corners.swap_remove(1);
+            let c = corners.swap_remove(0);
+            match compare_lex(&c.point, &d.point) {
+                Ordering::Greater => Intersection::TouchingSegment([d, c]),
+                _ => Intersection::TouchingSegment([c, d]),
+            }
+        }
         _ => Intersection::CoplanarOverlap(counterclockwise(corners, a)),
     }
 }
@@ -731,7 +733,7 @@ fn counterclockwise(mut corners: Vec<Contact>, a: &Triangle) -> Vec<Contact> {
         }
     });
     corners.swap(0, first);
-    let origin = corners[0].point;
+    let origin = corners[0].point.clone();
     let before = |p: &Contact, q: &Contact| {
         orient2d_projected(&origin, &p.point, &q.point, a.drop).times(a.turn) == Sign::Positive
     };

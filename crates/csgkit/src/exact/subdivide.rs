@@ -48,10 +48,11 @@ impl From<Cancelled> for StageError {
     }
 }
 
-/// What one intersecting pair puts on one of its triangles. A mark names points by key only:
-/// an implicit point is a few hundred bytes, a key at most 20, and the marks of two
-/// triangles and the points of one pair are kept apart ([`Contacts`]), so each point is
-/// stored once per pair that finds it, not once per mark. On two cubes the marks were most
+/// What one intersecting pair puts on one of its triangles. A mark names points by key only
+/// (a key is at most 20 bytes; a point is 32, and an implicit one's clone counts a reference
+/// on its shared definition), and the marks of two triangles and the points of one pair are
+/// kept apart ([`Contacts`]), so each point is stored once per pair that finds it, not once
+/// per mark. On two cubes the marks were most
 /// of the operation's fresh memory, and first touches of fresh pages cost a few
 /// microseconds each.
 #[derive(Clone, Copy, Debug)]
@@ -82,7 +83,7 @@ pub(crate) struct Contacts {
     /// The contact points that are not input vertices, as found by each pair, in pair order
     /// over the lists (one per run of candidates): a point found by several pairs is here
     /// once for each. Kept in the lists they were found in: joined, they would be copied
-    /// once more, a few hundred bytes a point, to fresh memory.
+    /// once more, to fresh memory.
     points: Vec<Vec<(PointKey, Point)>>,
 }
 
@@ -155,7 +156,7 @@ fn add_contacts(
     found.points.extend(
         (contacts.iter())
             .filter(|c| !matches!(c.key, PointKey::Vertex(_)))
-            .map(|c| (c.key, c.point)),
+            .map(|c| (c.key, c.point.clone())),
     );
     add_marks(a, b, intersection, &mut found.marks);
 }
@@ -170,12 +171,12 @@ fn add_marks(
     let (s, t) = (a.id(), b.id());
     let point = |c: &Contact| Mark::Point(c.key);
     let both = |mark: Mark| [(s, mark), (t, mark)];
-    match *intersection {
+    match intersection {
         Intersection::Disjoint => {}
-        Intersection::TouchingPoint(c) => marks.extend(both(point(&c))),
+        Intersection::TouchingPoint(c) => marks.extend(both(point(c))),
         Intersection::TouchingSegment([c, d]) | Intersection::Crossing([c, d]) => {
-            marks.extend(both(point(&c)));
-            marks.extend(both(point(&d)));
+            marks.extend(both(point(c)));
+            marks.extend(both(point(d)));
             // A segment along an edge of the other triangle is carried by that edge, so a
             // point where another segment crosses it gets the key the intersect stage gives
             // that point (edge × edge, edge × triangle), not a key naming the plane.
@@ -186,7 +187,7 @@ fn add_marks(
             marks.push((s, Mark::Segment(c.key, d.key, on_b)));
             marks.push((t, Mark::Segment(c.key, d.key, on_a)));
         }
-        Intersection::CoplanarOverlap(ref corners) => {
+        Intersection::CoplanarOverlap(corners) => {
             marks.extend(corners.iter().flat_map(|c| both(point(c))));
             for (i, c) in corners.iter().enumerate() {
                 let d = &corners[(i + 1) % corners.len()];
@@ -242,7 +243,7 @@ impl Arrangement {
     pub(crate) fn point(&self, input: &Input, v: u32) -> Point {
         let n = input.positions.len();
         match (v as usize).checked_sub(n) {
-            Some(i) => self.points[i],
+            Some(i) => self.points[i].clone(),
             None => Point::Explicit(input.positions[v as usize]),
         }
     }
@@ -358,7 +359,7 @@ fn number_points(
         .map(|(i, (key, ..))| (*key, n + i as u32))
         .collect();
     let points: Vec<Point> = (keyed.into_par_iter())
-        .map(|(.., p)| simplify(*p))
+        .map(|(.., p)| simplify(p.clone()))
         .collect();
     (ids, points)
 }
@@ -408,7 +409,7 @@ fn number_crossings(
         return points;
     }
     let mut found: Vec<(PointKey, Point)> = (splits.iter())
-        .flat_map(|s| s.crossings.iter().copied())
+        .flat_map(|s| s.crossings.iter().cloned())
         .filter(|(key, _)| !ids.contains_key(key))
         .collect();
     found.sort_unstable_by_key(|x| x.0);
@@ -469,7 +470,7 @@ fn split_one(
                 // The numbered point: an implicit one may have become explicit.
                 let n = input.positions.len();
                 points.push(match (g as usize).checked_sub(n) {
-                    Some(i) => contact_points[i],
+                    Some(i) => contact_points[i].clone(),
                     None => Point::Explicit(input.positions[g as usize]),
                 });
                 (global.len() - 1) as u32
@@ -527,8 +528,8 @@ fn cut_crossing_segments(
     let corners = tri.positions().map(Point::Explicit);
     let point = |points: &[Point], v: u32| -> Point {
         match (v as usize).checked_sub(3) {
-            Some(i) => points[i],
-            None => corners[v as usize],
+            Some(i) => points[i].clone(),
+            None => corners[v as usize].clone(),
         }
     };
     let drop = tri.drop_axis();
@@ -570,7 +571,7 @@ fn cut_crossing_segments(
             let id = match crossings.iter().position(|c| c.0 == key) {
                 Some(k) => 3 + (points.len() - crossings.len() + k) as u32,
                 None => {
-                    crossings.push((key, x));
+                    crossings.push((key, x.clone()));
                     points.push(x);
                     (2 + points.len()) as u32
                 }
@@ -667,9 +668,14 @@ mod tests {
             triangle: 7,
         };
         // Found by two runs of pairs, in either order.
-        let (ids, kept) = number_points(5, &[vec![(key, forward)], vec![(key, backward)]]);
-        let (ids_reversed, kept_reversed) =
-            number_points(5, &[vec![(key, backward)], vec![(key, forward)]]);
+        let (ids, kept) = number_points(
+            5,
+            &[vec![(key, forward.clone())], vec![(key, backward.clone())]],
+        );
+        let (ids_reversed, kept_reversed) = number_points(
+            5,
+            &[vec![(key, backward.clone())], vec![(key, forward.clone())]],
+        );
         assert_eq!((ids[&key], ids_reversed[&key]), (5, 5));
         assert_eq!((kept.len(), kept_reversed.len()), (1, 1));
         assert_eq!(format!("{:?}", kept[0]), format!("{:?}", kept_reversed[0]));

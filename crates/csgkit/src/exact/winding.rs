@@ -113,7 +113,7 @@ pub(crate) struct Sample {
 
 /// A point to cast from: `c` is strictly inside the sampled sub-triangle's projection along
 /// `axis`, and `p` is the point over it on the source triangle's plane.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct SamplePoint {
     pub source: u32,
     pub c: Point3,
@@ -232,7 +232,12 @@ pub(crate) fn sample_point(
     source: u32,
     corners: &[Point; 3],
 ) -> Option<SamplePoint> {
-    sample_point_near(input, source, corners, corners.map(|p| p.approx()))
+    sample_point_near(
+        input,
+        source,
+        corners,
+        corners.each_ref().map(|p| p.approx()),
+    )
 }
 
 /// The same with candidates built from the corners rounded correctly, for the patches
@@ -241,7 +246,7 @@ pub(crate) fn sample_point(
 /// sub-triangle that still holds f64 points; rounding exactly takes big integers, too slow for
 /// every patch.
 fn sample_point_rounded(input: &Input, source: u32, corners: &[Point; 3]) -> Option<SamplePoint> {
-    sample_point_near(input, source, corners, corners.map(|p| round_point(&p)))
+    sample_point_near(input, source, corners, corners.each_ref().map(round_point))
 }
 
 /// A sample point strictly inside sub-triangle `corners` of input triangle `source`, from

@@ -11,6 +11,7 @@
 
 use std::cell::RefCell;
 use std::collections::hash_map::Entry;
+use std::sync::Arc;
 use std::thread::LocalKey;
 
 use rustc_hash::FxHashMap;
@@ -29,15 +30,20 @@ pub type Point3 = [f64; 3];
 
 /// A point of the exact pipeline: an input vertex or an intersection point.
 ///
-/// `Copy` and allocation-free; the largest variant ([`Tpi`]) is 336 bytes.
-#[derive(Clone, Copy, Debug)]
+/// 32 bytes: an input vertex inline, an intersection point shared behind an [`Arc`]. Why:
+/// every move of a point copies the whole enum, and a [`Tpi`] inline is 336 bytes (its
+/// definition, filter intervals and nearby coordinates), which made copying points (input
+/// vertices above all) a tenth of the small booleans' time; an intersection point is built
+/// once at a cost of a thousand instructions or more, beside which one allocation is small,
+/// and is then moved and cloned many times.
+#[derive(Clone, Debug)]
 pub enum Point {
     /// An input vertex.
     Explicit(Point3),
     /// A line–plane intersection.
-    Lpi(Lpi),
+    Lpi(Arc<Lpi>),
     /// A three-plane intersection.
-    Tpi(Tpi),
+    Tpi(Arc<Tpi>),
 }
 
 /// Line–plane intersection: the line through `p, q` meets the plane through `r, s, t`.
@@ -202,21 +208,18 @@ impl Point {
             return Some(pinned);
         }
         let filter = filter_hom(&def, |conv| lpi_hom(&def, conv), |conv| lpi_hom(&def, conv));
-        let pt = Point::Lpi(Lpi {
+        let mut lpi = Arc::new(Lpi {
             def,
             filter,
             near: Nearby::of_box(&bounds_of(&filter)),
             w_sign: Sign::Zero,
         });
-        let w_sign = decide(&WSign(&pt));
-        match (pt, w_sign) {
-            (_, Sign::Zero) => None,
-            (Point::Lpi(mut l), w) => {
-                l.w_sign = w;
-                Some(Point::Lpi(l))
-            }
-            _ => unreachable!("built as an Lpi above"),
+        let w_sign = decide(&WSign(&Point::Lpi(Arc::clone(&lpi))));
+        if w_sign == Sign::Zero {
+            return None;
         }
+        Arc::make_mut(&mut lpi).w_sign = w_sign;
+        Some(Point::Lpi(lpi))
     }
 
     /// The common point of the planes of three triangles ([`Tpi`]).
@@ -236,21 +239,18 @@ impl Point {
             |conv| tpi_hom(&planes, conv),
             |conv| tpi_hom(&planes, conv),
         );
-        let pt = Point::Tpi(Tpi {
+        let mut tpi = Arc::new(Tpi {
             planes,
             filter,
             near: Nearby::of_box(&bounds_of(&filter)),
             w_sign: Sign::Zero,
         });
-        let w_sign = decide(&WSign(&pt));
-        match (pt, w_sign) {
-            (_, Sign::Zero) => None,
-            (Point::Tpi(mut t), w) => {
-                t.w_sign = w;
-                Some(Point::Tpi(t))
-            }
-            _ => unreachable!("built as a Tpi above"),
+        let w_sign = decide(&WSign(&Point::Tpi(Arc::clone(&tpi))));
+        if w_sign == Sign::Zero {
+            return None;
         }
+        Arc::make_mut(&mut tpi).w_sign = w_sign;
+        Some(Point::Tpi(tpi))
     }
 
     /// The crossing point of the lines of two coplanar edges `e` and `f`, both lying in the
@@ -291,7 +291,8 @@ impl Point {
     pub fn approx(&self) -> Point3 {
         match self {
             Point::Explicit(p) => *p,
-            Point::Lpi(Lpi { filter, .. }) | Point::Tpi(Tpi { filter, .. }) => {
+            Point::Lpi(_) | Point::Tpi(_) => {
+                let filter = self.filter_hom();
                 let mid = |i: &Interval| i.mid();
                 let w = mid(&filter[3]);
                 [
@@ -309,7 +310,8 @@ impl Point {
     pub fn enclosure(&self) -> (Point3, Point3) {
         match self {
             Point::Explicit(p) => (*p, *p),
-            Point::Lpi(Lpi { near, .. }) | Point::Tpi(Tpi { near, .. }) => near.enclosure(),
+            Point::Lpi(l) => l.near.enclosure(),
+            Point::Tpi(t) => t.near.enclosure(),
         }
     }
 
@@ -319,7 +321,8 @@ impl Point {
     pub(crate) fn nearby(&self) -> Nearby {
         match self {
             Point::Explicit(p) => Nearby::exact(*p),
-            Point::Lpi(Lpi { near, .. }) | Point::Tpi(Tpi { near, .. }) => *near,
+            Point::Lpi(l) => l.near,
+            Point::Tpi(t) => t.near,
         }
     }
 

@@ -500,7 +500,7 @@ fn neighbours_stay_conforming() {
         Point::Explicit([2.0, 6.0, 0.0]),
     ];
     let first = split_triangle([a, b, c], &on_bc, &[]).unwrap();
-    let second = split_triangle([c, b, d], &[on_bc[1], on_bc[0]], &[]).unwrap();
+    let second = split_triangle([c, b, d], &[on_bc[1].clone(), on_bc[0].clone()], &[]).unwrap();
     // Global ids: B, C, the two points.
     let g1 = |v: u32| [0, 10, 11, 20, 21][v as usize];
     let g2 = |v: u32| [11, 10, 12, 21, 20][v as usize];
