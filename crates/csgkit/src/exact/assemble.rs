@@ -114,7 +114,7 @@ pub(crate) fn assemble(
                 }
             }
             let rounded = round_inward(&point, &planes, &grid);
-            let moved = match &point {
+            let moved = match &*point {
                 Point::Explicit(exact) => rounded != *exact,
                 _ => true,
             };

@@ -21,6 +21,8 @@
 //! depend on the thread count.
 
 use crate::par::*;
+use std::borrow::Cow;
+
 use rustc_hash::FxHashMap;
 
 use crate::index::Aabb;
@@ -239,12 +241,14 @@ impl Arrangement {
         input.positions.len() + self.points.len()
     }
 
-    /// The exact point of vertex `v`.
-    pub(crate) fn point(&self, input: &Input, v: u32) -> Point {
+    /// The exact point of vertex `v`: an intersection point borrowed (a clone would count a
+    /// reference on its shared definition, an atomic write that threads reading the same
+    /// point contend on), an input vertex made from its coordinates.
+    pub(crate) fn point(&self, input: &Input, v: u32) -> Cow<'_, Point> {
         let n = input.positions.len();
         match (v as usize).checked_sub(n) {
-            Some(i) => self.points[i].clone(),
-            None => Point::Explicit(input.positions[v as usize]),
+            Some(i) => Cow::Borrowed(&self.points[i]),
+            None => Cow::Owned(Point::Explicit(input.positions[v as usize])),
         }
     }
 }

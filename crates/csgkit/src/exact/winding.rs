@@ -316,7 +316,7 @@ pub(crate) fn select(
     patch_count: usize,
     progress: &Progress,
 ) -> Result<Kept, StageError> {
-    let corners = |s: usize| arr.triangles[s].map(|v| arr.point(input, v));
+    let corners = |s: usize| arr.triangles[s].map(|v| arr.point(input, v).into_owned());
     // The first sub-triangle of each patch that holds a sample point: from the corners'
     // approximations, then, for the patches left, from the corners rounded correctly (the
     // same candidates where every corner is explicit).
@@ -596,7 +596,7 @@ fn sliver_stack(
     let plane = source.positions();
     let axis = source.drop_axis();
     let turn = source.turn();
-    let point = |v: u32| arr.point(input, v);
+    let point = |v: u32| arr.point(input, v).into_owned();
     let corners = arr.triangles[s as usize].map(point);
     let mut coincident = Vec::new();
     let mut stack = Vec::new();
@@ -701,7 +701,7 @@ fn patch_at(input: &Input, arr: &Arrangement, patch_of: &[u32], t: u32, c: &Poin
     range
         .into_iter()
         .find(|&s| {
-            let corners = arr.triangles[s].map(|v| arr.point(input, v));
+            let corners = arr.triangles[s].map(|v| arr.point(input, v).into_owned());
             (0..3).all(|i| {
                 orient2d_projected(&corners[i], &corners[(i + 1) % 3], &at, axis) != turn.flip()
             })
