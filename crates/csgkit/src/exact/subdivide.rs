@@ -20,9 +20,9 @@
 //! independent and run in parallel; results are sorted by triangle, so the output does not
 //! depend on the thread count.
 
-use crate::par::*;
 use std::borrow::Cow;
 
+use crate::par::*;
 use rustc_hash::FxHashMap;
 
 use crate::index::Aabb;
@@ -54,9 +54,8 @@ impl From<Cancelled> for StageError {
 /// (a key is at most 20 bytes; a point is 32, and an implicit one's clone counts a reference
 /// on its shared definition), and the marks of two triangles and the points of one pair are
 /// kept apart ([`Contacts`]), so each point is stored once per pair that finds it, not once
-/// per mark. On two cubes the marks were most
-/// of the operation's fresh memory, and first touches of fresh pages cost a few
-/// microseconds each.
+/// per mark. On two cubes the marks were most of the operation's fresh memory, and first
+/// touches of fresh pages cost a few microseconds each.
 #[derive(Clone, Copy, Debug)]
 enum Mark {
     /// A contact point: an input vertex, or one of the pair's [`Contacts::points`].
