@@ -529,20 +529,14 @@ fn cut_crossing_segments(
     }
     let tri = input.triangle(t as usize);
     let corners = tri.positions().map(Point::Explicit);
-    let point = |points: &[Point], v: u32| -> Point {
-        match (v as usize).checked_sub(3) {
-            Some(i) => points[i].clone(),
-            None => corners[v as usize].clone(),
-        }
-    };
     let drop = tri.drop_axis();
     // Boxes certain to contain each segment: an approximation of an implicit point can be far
     // off when its definition is nearly degenerate, so only enclosures may reject a pair.
     let boxes: Vec<Aabb> = (segments.iter())
         .map(|(s, _)| {
             let (a, b) = (
-                point(points, s[0]).enclosure(),
-                point(points, s[1]).enclosure(),
+                local_point(&corners, points, s[0]).enclosure(),
+                local_point(&corners, points, s[1]).enclosure(),
             );
             Aabb::from_points([a.0, a.1, b.0, b.1].iter())
         })
@@ -556,14 +550,15 @@ fn cut_crossing_segments(
             if a == c || a == d || b == c || b == d || !boxes[i].overlaps(&boxes[j]) {
                 continue;
             }
-            let [pa, pb, pc, pd] = [a, b, c, d].map(|v| point(points, v));
+            let placed: &[Point] = points;
+            let [pa, pb, pc, pd] = [a, b, c, d].map(|v| local_point(&corners, placed, v));
             let opposite = |x: Sign, y: Sign| x != Sign::Zero && x == y.flip();
             if !opposite(
-                orient2d_projected(&pa, &pb, &pc, drop),
-                orient2d_projected(&pa, &pb, &pd, drop),
+                orient2d_projected(pa, pb, pc, drop),
+                orient2d_projected(pa, pb, pd, drop),
             ) || !opposite(
-                orient2d_projected(&pc, &pd, &pa, drop),
-                orient2d_projected(&pc, &pd, &pb, drop),
+                orient2d_projected(pc, pd, pa, drop),
+                orient2d_projected(pc, pd, pb, drop),
             ) {
                 continue;
             }
@@ -595,9 +590,10 @@ fn cut_crossing_segments(
             .take_while(|c| c.0 == i)
             .map(|c| c.1)
             .collect();
-        on.sort_by(|&x, &y| compare_lex(&point(points, x), &point(points, y)));
+        let at = |v: u32| local_point(&corners, points, v);
+        on.sort_by(|&x, &y| compare_lex(at(x), at(y)));
         let mut chain = vec![a];
-        if compare_lex(&point(points, a), &point(points, b)) == std::cmp::Ordering::Greater {
+        if compare_lex(at(a), at(b)) == std::cmp::Ordering::Greater {
             on.reverse();
         }
         chain.extend(on);
@@ -610,6 +606,14 @@ fn cut_crossing_segments(
     cut_segments.dedup_by_key(|s| s.0);
     *segments = cut_segments;
     crossings
+}
+
+/// Local point `v` of a triangle being cut: its corners 0..3, then `points`.
+fn local_point<'a>(corners: &'a [Point; 3], points: &'a [Point], v: u32) -> &'a Point {
+    match (v as usize).checked_sub(3) {
+        Some(i) => &points[i],
+        None => &corners[v as usize],
+    }
 }
 
 /// The point where segments carried by `sa` and `sb` cross inside triangle `t`, with its

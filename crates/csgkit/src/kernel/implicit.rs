@@ -208,18 +208,13 @@ impl Point {
             return Some(pinned);
         }
         let filter = filter_hom(&def, |conv| lpi_hom(&def, conv), |conv| lpi_hom(&def, conv));
-        let mut lpi = Arc::new(Lpi {
+        Point::Lpi(Arc::new(Lpi {
             def,
             filter,
             near: Nearby::of_box(&bounds_of(&filter)),
             w_sign: Sign::Zero,
-        });
-        let w_sign = decide(&WSign(&Point::Lpi(Arc::clone(&lpi))));
-        if w_sign == Sign::Zero {
-            return None;
-        }
-        Arc::make_mut(&mut lpi).w_sign = w_sign;
-        Some(Point::Lpi(lpi))
+        }))
+        .with_w_sign()
     }
 
     /// The common point of the planes of three triangles ([`Tpi`]).
@@ -239,18 +234,29 @@ impl Point {
             |conv| tpi_hom(&planes, conv),
             |conv| tpi_hom(&planes, conv),
         );
-        let mut tpi = Arc::new(Tpi {
+        Point::Tpi(Arc::new(Tpi {
             planes,
             filter,
             near: Nearby::of_box(&bounds_of(&filter)),
             w_sign: Sign::Zero,
-        });
-        let w_sign = decide(&WSign(&Point::Tpi(Arc::clone(&tpi))));
+        }))
+        .with_w_sign()
+    }
+
+    /// A newly built implicit point with the exact sign of its `W` stored, `None` when `W` is
+    /// exactly zero (no such point). Its definition is not shared yet, so storing the sign
+    /// writes in place.
+    fn with_w_sign(mut self) -> Option<Point> {
+        let w_sign = decide(&WSign(&self));
         if w_sign == Sign::Zero {
             return None;
         }
-        Arc::make_mut(&mut tpi).w_sign = w_sign;
-        Some(Point::Tpi(tpi))
+        match &mut self {
+            Point::Explicit(_) => {}
+            Point::Lpi(l) => Arc::make_mut(l).w_sign = w_sign,
+            Point::Tpi(t) => Arc::make_mut(t).w_sign = w_sign,
+        }
+        Some(self)
     }
 
     /// The crossing point of the lines of two coplanar edges `e` and `f`, both lying in the
