@@ -295,7 +295,12 @@ fn ray_vertices(
         .map(|l| l.touched.len() + 1 == operand_count)
         .collect();
     let mut from = vec![None; local.len()];
-    let contacts = &arr.contact_vertices;
+    if done.iter().all(|&d| d) {
+        return from;
+    }
+    let mut contacts = arr.contact_vertices.clone();
+    contacts.par_sort_unstable();
+    contacts.dedup();
     for (s, tri) in arr.triangles.iter().enumerate() {
         let p = patch_of[s] as usize;
         if done[p] {
