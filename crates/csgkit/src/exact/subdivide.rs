@@ -551,8 +551,7 @@ fn cut_crossing_segments(
             if a == c || a == d || b == c || b == d || !boxes[i].overlaps(&boxes[j]) {
                 continue;
             }
-            let placed: &[Point] = points;
-            let [pa, pb, pc, pd] = [a, b, c, d].map(|v| local_point(&corners, placed, v));
+            let [pa, pb, pc, pd] = [a, b, c, d].map(|v| local_point(&corners, points, v));
             let opposite = |x: Sign, y: Sign| x != Sign::Zero && x == y.flip();
             if !opposite(
                 orient2d_projected(pa, pb, pc, drop),
