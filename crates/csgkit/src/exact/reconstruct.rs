@@ -116,19 +116,26 @@ pub(crate) fn reconstruct(
         0
     };
 
-    let mut replaced = vec![false; triangles.len()];
-    for (l, origin) in fans.origin.iter().enumerate() {
-        if let Some(k) = *origin {
-            replaced[k as usize] = !fans.alive[l];
+    // The kept sub-triangles the removal replaced, in order: the others close up over them
+    // in place (on two 1 M spheres, copies of all 1.3 M took a third of this stage).
+    let mut replaced: Vec<u32> = (fans.origin.iter().zip(&fans.alive))
+        .filter_map(|(&origin, &alive)| origin.filter(|_| !alive))
+        .collect();
+    replaced.sort_unstable();
+    replaced.dedup();
+    let (mut out_triangles, mut out_source) = (triangles, source);
+    if let Some(&first) = replaced.first() {
+        let mut write = first as usize;
+        let mut next_replaced = replaced.iter().peekable();
+        for k in first as usize..out_triangles.len() {
+            if next_replaced.next_if(|&&r| r as usize == k).is_none() {
+                out_triangles[write] = out_triangles[k];
+                out_source[write] = out_source[k];
+                write += 1;
+            }
         }
-    }
-    let mut out_triangles = Vec::with_capacity(triangles.len());
-    let mut out_source = Vec::with_capacity(triangles.len());
-    for (k, (&t, &s)) in triangles.iter().zip(&source).enumerate() {
-        if !replaced[k] {
-            out_triangles.push(t);
-            out_source.push(s);
-        }
+        out_triangles.truncate(write);
+        out_source.truncate(write);
     }
     for l in 0..fans.triangles.len() {
         if fans.alive[l] && fans.origin[l].is_none() {
