@@ -226,10 +226,16 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
     for (k, (mesh, triangulation)) in operands.iter().zip(&triangulations).enumerate() {
         let remap = &welding.remap[vertex_offset..vertex_offset + mesh.vertex_count()];
         let welded = |corners: [u32; 3]| corners.map(|v| remap[v as usize]);
+        let own_positions = mesh.positions();
         let start = made_faces.1.len();
         made_faces.par_extend(triangulation.par_iter().map(|(f, corners)| {
-            let ids = welded(corners);
-            let made = Triangle::new(0, ids, ids.map(|v| positions[v as usize]));
+            // The corners' positions read from the operand's own array, not the welded one
+            // through the welded ids: the same numbers (scaled exactly; only a zero's sign
+            // may differ, which no orientation sees), and the reads do not wait for the
+            // ids' (two 1 M spheres, whose vertex numbering scatters each face's corners
+            // through memory: ingest 415 → 370 ms, medians of seven runs).
+            let corner_positions = corners.map(|v| own_positions[v as usize].map(|x| x * scale));
+            let made = Triangle::new(0, welded(corners), corner_positions);
             (f, made.map(|t| t.indexed()))
         }));
         let made = &made_faces.1;
