@@ -117,7 +117,7 @@ pub(crate) fn reconstruct(
     };
 
     // The kept sub-triangles the removal replaced, in order: the others close up over them
-    // in place (on two 1 M spheres, copies of all 1.3 M took a third of this stage).
+    // in place (on two 1 M spheres, copies of all 1.3 M took 13–15 ms of this stage's 31–36).
     let mut replaced: Vec<u32> = (fans.origin.iter().zip(&fans.alive))
         .filter_map(|(&origin, &alive)| origin.filter(|_| !alive))
         .collect();

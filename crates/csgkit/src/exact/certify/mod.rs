@@ -668,8 +668,8 @@ fn faces_near(
             // Per vertex, the sides of the bounds it lies beyond, a bit each: a face with all
             // its corners beyond one side misses the bounds, which a byte per corner tells
             // where the face's box reads its three positions from all over the mesh (most
-            // faces lie far from the seeds; on two 1 M spheres the box of every face took
-            // two thirds of this search, most of it waiting for memory).
+            // faces lie far from the seeds; on two 1 M spheres this search, the suspects'
+            // filter with it, went from 12.5–18 to 8.4–9.7 ms).
             let beyond: Vec<u8> = (positions.par_iter())
                 .map(|p| sides_beyond(p, &bounds))
                 .collect();
