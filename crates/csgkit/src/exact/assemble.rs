@@ -118,7 +118,7 @@ pub(crate) fn assemble(
             if v < explicit_count {
                 // An input vertex: a number of the precision (see `round_inward`).
                 let exact = input.positions[v as usize];
-                if exact.iter().all(|&x| grid.holds(x)) {
+                if grid.holds_point(&exact) {
                     return (exact.map(|x| x * unscale), false);
                 }
             }
@@ -180,6 +180,11 @@ impl Grid {
         self.precision.holds(x / self.scale)
     }
 
+    /// Whether the grid holds every coordinate of `p`: such a point stays as it is.
+    fn holds_point(&self, p: &Point3) -> bool {
+        p.iter().all(|&x| self.holds(x))
+    }
+
     /// See [`Precision::is_subnormal`].
     fn is_subnormal(&self, x: f64) -> bool {
         self.precision.is_subnormal(x / self.scale)
@@ -204,7 +209,7 @@ impl Grid {
 /// the others if none of those is behind.
 fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
     if let Point::Explicit(exact) = point {
-        if exact.iter().all(|&x| grid.holds(x)) {
+        if grid.holds_point(exact) {
             return *exact;
         }
     }

@@ -327,26 +327,27 @@ fn sub_triangles(
     kept_ids: Option<&[u32]>,
 ) -> (Vec<[u32; 3]>, Vec<u32>, Vec<u32>) {
     let count = input.triangles.len();
-    // Sub-triangles before each split triangle's own beyond one per input triangle, and in
-    // all; sums of differences that may be negative (a triangle split into none), so
-    // wrapping, their totals being counts.
-    let mut extra_before = Vec::with_capacity(splits.len() + 1);
-    let mut extra = 0u32;
+    // Sub-triangles of the split triangles before each split triangle, and of all of them.
+    let mut split_subs_before = Vec::with_capacity(splits.len() + 1);
+    let mut split_subs = 0;
     for s in splits {
-        extra_before.push(extra);
-        extra = extra.wrapping_add((s.triangles.len() as u32).wrapping_sub(1));
+        split_subs_before.push(split_subs);
+        split_subs += s.triangles.len();
     }
-    extra_before.push(extra);
-    let total = (count as u32).wrapping_add(extra) as usize;
+    split_subs_before.push(split_subs);
+    // Where input triangle `t` begins: after one sub-triangle per unsplit triangle before it
+    // and the pieces of the split ones; with the first split triangle at `t` or after it.
     let first_sub = |t: usize| {
-        let i = splits.partition_point(|s| (s.triangle as usize) < t);
-        (t as u32).wrapping_add(extra_before[i])
+        let next = splits.partition_point(|s| (s.triangle as usize) < t);
+        (t - next + split_subs_before[next], next)
     };
+    let total = first_sub(count).0;
     let mut triangles = vec![[0u32; 3]; total];
     let mut source = vec![0u32; total];
     let mut sub_starts = vec![0u32; count + 1];
     sub_starts[count] = total as u32;
-    // Per block of input triangles: its first triangle and its parts of the three arrays.
+    // Per block of input triangles: its first triangle, its first split triangle, and its
+    // parts of the three arrays.
     let mut blocks = Vec::with_capacity(count.div_ceil(SUB_TRIANGLE_BLOCK));
     let (mut rest_triangles, mut rest_source, mut rest_starts) = (
         &mut triangles[..],
@@ -355,22 +356,27 @@ fn sub_triangles(
     );
     for first in (0..count).step_by(SUB_TRIANGLE_BLOCK) {
         let end = (first + SUB_TRIANGLE_BLOCK).min(count);
-        let subs = (first_sub(end) - first_sub(first)) as usize;
+        let (base, next) = first_sub(first);
+        let subs = first_sub(end).0 - base;
         let (block_triangles, block_source, block_starts);
         (block_triangles, rest_triangles) = rest_triangles.split_at_mut(subs);
         (block_source, rest_source) = rest_source.split_at_mut(subs);
         (block_starts, rest_starts) = rest_starts.split_at_mut(end - first);
-        blocks.push((first, block_triangles, block_source, block_starts));
+        blocks.push((
+            first,
+            base,
+            next,
+            block_triangles,
+            block_source,
+            block_starts,
+        ));
     }
-    blocks
-        .into_par_iter()
-        .for_each(|(first, block_triangles, block_source, block_starts)| {
-            let mut next = splits.partition_point(|s| (s.triangle as usize) < first);
+    blocks.into_par_iter().for_each(
+        |(first, base, mut next, block_triangles, block_source, block_starts)| {
             let mut sub = 0;
-            let base = first_sub(first);
             for (i, start) in block_starts.iter_mut().enumerate() {
                 let t = first + i;
-                *start = base + sub as u32;
+                *start = (base + sub) as u32;
                 if splits.get(next).is_some_and(|s| s.triangle as usize == t) {
                     let pieces = &splits[next].triangles;
                     block_triangles[sub..sub + pieces.len()].copy_from_slice(pieces);
@@ -388,7 +394,8 @@ fn sub_triangles(
                     *tri = tri.map(|v| kept[v as usize]);
                 }
             }
-        });
+        },
+    );
     (triangles, source, sub_starts)
 }
 

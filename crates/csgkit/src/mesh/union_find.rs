@@ -31,19 +31,6 @@ impl UnionFind {
         }
     }
 
-    /// The root of `x`'s set.
-    pub(crate) fn find(&mut self, mut x: u32) -> u32 {
-        loop {
-            let parent = *self.parent[x as usize].get_mut();
-            if parent == x {
-                return x;
-            }
-            let grandparent = *self.parent[parent as usize].get_mut();
-            *self.parent[x as usize].get_mut() = grandparent;
-            x = grandparent;
-        }
-    }
-
     /// The root of every index's set, in index order.
     pub(crate) fn roots(mut self) -> Vec<u32> {
         if self.parent.len() < PARALLEL_ROOTS_FROM {
@@ -55,7 +42,7 @@ impl UnionFind {
         } else {
             (0..self.parent.len() as u32)
                 .into_par_iter()
-                .for_each(|x| self.parent[x as usize].store(self.find_shared(x), Relaxed));
+                .for_each(|x| self.parent[x as usize].store(self.find(x), Relaxed));
         }
         (self.parent.into_iter())
             .map(AtomicU32::into_inner)
@@ -75,7 +62,7 @@ impl UnionFind {
     /// [`Self::union`] while other threads may be making unions too.
     pub(crate) fn union_shared(&self, mut a: u32, mut b: u32) {
         loop {
-            let (ra, rb) = (self.find_shared(a), self.find_shared(b));
+            let (ra, rb) = (self.find(a), self.find(b));
             let (low, high) = match ra.cmp(&rb) {
                 std::cmp::Ordering::Equal => return,
                 std::cmp::Ordering::Less => (ra, rb),
@@ -91,10 +78,11 @@ impl UnionFind {
         }
     }
 
-    /// [`Self::find`] while other threads may be making unions too. A parent read late is
-    /// still an ancestor, so the walk ends at the root or at a root another thread is linking,
-    /// which [`Self::union_shared`]'s compare-and-swap then finds out.
-    fn find_shared(&self, mut x: u32) -> u32 {
+    /// The root of `x`'s set, also while other threads make unions (relaxed atomic reads and
+    /// writes are plain ones on the targets built for). A parent read late is still an
+    /// ancestor, so the walk ends at the root or at a root another thread is linking, which
+    /// [`Self::union_shared`]'s compare-and-swap then finds out.
+    pub(crate) fn find(&self, mut x: u32) -> u32 {
         loop {
             let parent = self.parent[x as usize].load(Relaxed);
             if parent == x {
