@@ -243,7 +243,9 @@ pub(crate) fn ingest(operands: &[&Mesh]) -> Result<Input, InvalidOperand> {
             .filter(|(made, _)| made.is_none())
             .map(|(_, (_, corners))| (k as u32, welded(corners)));
         degenerate.par_extend(flat);
-        operand.resize(made.len(), k as u32);
+        // On every thread, as the records were: a fill on one first touched its pages alone.
+        let count = made.len() - operand.len();
+        operand.par_extend((0..count).into_par_iter().map(|_| k as u32));
         vertex_offset += mesh.vertex_count();
     }
     let (mut face, made) = made_faces;

@@ -75,7 +75,7 @@ pub(crate) fn weld_positions_by(
         .collect();
     order.par_sort_unstable();
     // Each vertex is the first of its class unless a run says otherwise.
-    let mut first_of: Vec<u32> = (0..count as u32).collect();
+    let mut first_of: Vec<u32> = (0..count as u32).into_par_iter().collect();
     for run in order.chunk_by_mut(|x, y| x >> 32 == y >> 32) {
         if run.len() == 1 {
             continue;
@@ -98,7 +98,9 @@ pub(crate) fn weld_positions_by(
             representatives.push(v as u32);
         }
     }
-    let remap = first_of.iter().map(|&f| id_of_first[f as usize]).collect();
+    let remap = (first_of.par_iter())
+        .map(|&f| id_of_first[f as usize])
+        .collect();
     Welding {
         remap,
         representatives,
