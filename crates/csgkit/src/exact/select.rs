@@ -48,11 +48,37 @@ pub(crate) fn select(
     let decisions: Vec<Option<bool>> = (labels.labels.iter().zip(&patch_operand))
         .map(|(l, &j)| decide(expression, operand_count, j, l))
         .collect();
-    (0..arr.triangles.len() as u32)
-        .into_par_iter()
-        .filter_map(|s| decisions[labels.patch_of[s as usize] as usize].map(|flip| (s, flip)))
-        .collect()
+    let kept_of = |s: u32| decisions[labels.patch_of[s as usize] as usize].map(|flip| (s, flip));
+    // Counted, then written in place, block by block: a parallel `filter_map` collected each
+    // thread's part into lists of its own and then copied them into the result (two 1 M
+    // spheres, 1.3 M kept of 2 M sub-triangles: 10–16 ms, most of it fresh pages twice over;
+    // the classify stage with it 51.8 → 44.5 ms, medians of 11 runs).
+    let count = arr.triangles.len() as u32;
+    let blocks: Vec<std::ops::Range<u32>> = (0..count)
+        .step_by(SELECT_BLOCK)
+        .map(|first| first..count.min(first + SELECT_BLOCK as u32))
+        .collect();
+    let counts: Vec<usize> = (blocks.par_iter())
+        .map(|block| block.clone().filter(|&s| kept_of(s).is_some()).count())
+        .collect();
+    let mut kept = vec![(0, false); counts.iter().sum()];
+    let mut parts = Vec::with_capacity(blocks.len());
+    let mut rest = kept.as_mut_slice();
+    for &n in &counts {
+        let (part, tail) = rest.split_at_mut(n);
+        parts.push(part);
+        rest = tail;
+    }
+    (parts.into_par_iter().zip(blocks)).for_each(|(part, block)| {
+        for (slot, k) in part.iter_mut().zip(block.filter_map(kept_of)) {
+            *slot = k;
+        }
+    });
+    kept
 }
+
+/// Sub-triangles per parallel task of [`select`].
+const SELECT_BLOCK: usize = 1 << 15;
 
 /// `Some(reverse)` when a face of operand `own` with these labels bounds the result.
 fn decide(
