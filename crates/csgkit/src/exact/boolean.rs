@@ -482,8 +482,8 @@ fn exact_result(
             select::select(expression, &input, &arrangement, &labels)
         }
         None => {
-            let (patch_of, patch_count) = classify::patch_partition(&input, &arrangement);
-            stats.patches = patch_count;
+            let (patch_of, first_sub) = classify::patch_partition(&input, &arrangement);
+            stats.patches = first_sub.len();
             stats.winding_classification = true;
             winding::select(
                 expression,
@@ -492,7 +492,7 @@ fn exact_result(
                 &trees,
                 &arrangement,
                 &patch_of,
-                patch_count,
+                &first_sub,
                 progress,
             )?
         }

@@ -62,6 +62,8 @@ pub(crate) enum Label {
 pub(crate) struct Labels {
     /// The patch of each sub-triangle.
     pub patch_of: Vec<u32>,
+    /// The first sub-triangle of each patch.
+    pub first_sub: Vec<u32>,
     /// Per patch: `(operand, label)` for each other operand the patch is not outside of,
     /// sorted by operand.
     pub labels: Vec<Vec<(u32, Label)>>,
@@ -74,8 +76,9 @@ impl Labels {
     }
 }
 
-/// The patches of the arrangement: the patch of each sub-triangle, and how many there are.
-pub(crate) fn patch_partition(input: &Input, arr: &Arrangement) -> (Vec<u32>, usize) {
+/// The patches of the arrangement: the patch of each sub-triangle, and the first
+/// sub-triangle of each patch.
+pub(crate) fn patch_partition(input: &Input, arr: &Arrangement) -> (Vec<u32>, Vec<u32>) {
     patches(input, arr, &EdgeGroups::new(input, arr))
 }
 
@@ -95,7 +98,8 @@ pub(crate) fn classify(
     progress: &Progress,
 ) -> Result<Labels, StageError> {
     let edges = EdgeGroups::new(input, arr);
-    let (patch_of, patch_count) = patches(input, arr, &edges);
+    let (patch_of, first_sub) = patches(input, arr, &edges);
+    let patch_count = first_sub.len();
     let operand_count = input.operand_count();
 
     // Local tests at the edges where other operands' faces meet each patch.
@@ -162,7 +166,11 @@ pub(crate) fn classify(
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(Labels { patch_of, labels })
+    Ok(Labels {
+        patch_of,
+        first_sub,
+        labels,
+    })
 }
 
 /// One side of a sub-triangle, in an edge group.
@@ -245,8 +253,8 @@ impl EdgeGroups {
 }
 
 /// Patches by union-find; returns the patch of each sub-triangle (numbered by first
-/// sub-triangle) and the number of patches.
-fn patches(input: &Input, arr: &Arrangement, edges: &EdgeGroups) -> (Vec<u32>, usize) {
+/// sub-triangle) and the first sub-triangle of each patch.
+fn patches(input: &Input, arr: &Arrangement, edges: &EdgeGroups) -> (Vec<u32>, Vec<u32>) {
     // The links across unsplit triangles' sides, every triangle of every operand (two
     // million on two 1 M spheres), are made on all threads at once.
     let sets = UnionFind::new(arr.triangles.len());
@@ -271,17 +279,17 @@ fn patches(input: &Input, arr: &Arrangement, edges: &EdgeGroups) -> (Vec<u32>, u
     // A root is the first sub-triangle of its set, so it is numbered before the others read
     // its number in its place.
     let mut patch_of = sets.roots();
-    let mut count = 0u32;
+    let mut first_sub = Vec::new();
     for s in 0..patch_of.len() {
         let root = patch_of[s] as usize;
         if root == s {
-            patch_of[s] = count;
-            count += 1;
+            patch_of[s] = first_sub.len() as u32;
+            first_sub.push(s as u32);
         } else {
             patch_of[s] = patch_of[root];
         }
     }
-    (patch_of, count as usize)
+    (patch_of, first_sub)
 }
 
 /// For each patch that local tests leave incomplete, a vertex to cast a ray from, with the

@@ -37,14 +37,11 @@ pub(crate) fn select(
     labels: &Labels,
 ) -> Kept {
     let operand_count = input.operand_count();
-    // The decision depends only on the patch: make it once per patch.
-    let patch_operand: Vec<u32> = {
-        let mut operand = vec![0u32; labels.patch_count()];
-        for (s, &p) in labels.patch_of.iter().enumerate() {
-            operand[p as usize] = input.operand[arr.source[s] as usize];
-        }
-        operand
-    };
+    // The decision depends only on the patch: make it once per patch (whose sub-triangles
+    // all lie on one operand, that of its first).
+    let patch_operand: Vec<u32> = (labels.first_sub.iter())
+        .map(|&s| input.operand[arr.source[s as usize] as usize])
+        .collect();
     let decisions: Vec<Option<bool>> = (labels.labels.iter().zip(&patch_operand))
         .map(|(l, &j)| decide(expression, operand_count, j, l))
         .collect();

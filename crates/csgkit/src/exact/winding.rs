@@ -313,9 +313,10 @@ pub(crate) fn select(
     trees: &TriangleTrees,
     arr: &Arrangement,
     patch_of: &[u32],
-    patch_count: usize,
+    first_sub: &[u32],
     progress: &Progress,
 ) -> Result<Kept, StageError> {
+    let patch_count = first_sub.len();
     let corners = |s: usize| arr.triangles[s].map(|v| arr.point(input, v).into_owned());
     // The first sub-triangle of each patch that holds a sample point: from the corners'
     // approximations, then, for the patches left, from the corners rounded correctly (the
@@ -357,13 +358,6 @@ pub(crate) fn select(
     if missing > 0 {
         propagate_to_slivers(input, arr, trees, patch_of, &mut found)?;
     }
-    let first_sub = {
-        let mut first = vec![u32::MAX; patch_count];
-        for (s, &p) in patch_of.iter().enumerate().rev() {
-            first[p as usize] = s as u32;
-        }
-        first
-    };
     let operand_count = input.operand_count();
     let decisions: Vec<Option<bool>> = (0..patch_count)
         .into_par_iter()
