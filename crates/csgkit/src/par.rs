@@ -45,6 +45,22 @@ pub(crate) trait ParallelSliceMut<T> {
     fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
 }
 
+/// `slice` cut into consecutive parts of `lengths` (which sum to at most its length), for
+/// handing each part to its own task.
+pub(crate) fn split_lengths_mut<T>(
+    slice: &mut [T],
+    lengths: impl IntoIterator<Item = usize>,
+) -> Vec<&mut [T]> {
+    let mut rest = slice;
+    (lengths.into_iter())
+        .map(|length| {
+            let (part, tail) = std::mem::take(&mut rest).split_at_mut(length);
+            rest = tail;
+            part
+        })
+        .collect()
+}
+
 /// How long a loop of costly items in a run that runs inline goes on here before it judges
 /// whether the rest is worth the pool.
 const JUDGE_AFTER: std::time::Duration = std::time::Duration::from_micros(100);

@@ -461,13 +461,10 @@ fn link_edges(
     // thread, where one fill of the whole 24 MB table came first on one (two 1 M-triangle
     // spheres: the linking 75 → 63 ms, medians of five runs).
     let mut neighbours = vec![0; 3 * input.triangles.len()];
-    let mut parts = Vec::with_capacity(operands.len());
-    let mut rest = neighbours.as_mut_slice();
-    for k in 0..operands.len() {
-        let (own, tail) = rest.split_at_mut(3 * input.operand_triangles(k).len());
-        parts.push(own);
-        rest = tail;
-    }
+    let parts = split_lengths_mut(
+        &mut neighbours,
+        (0..operands.len()).map(|k| 3 * input.operand_triangles(k).len()),
+    );
     let unbalanced: Vec<Unbalanced> = (parts.into_par_iter().enumerate())
         .map(|(k, own)| {
             // The sides of the operand's degenerate triangles count for balance but link
@@ -564,17 +561,15 @@ fn link_operand(
         let start = if b == 0 { 0 } else { bounds[b - 1] };
         start as usize..bounds[b] as usize
     };
-    let mut blocks = Vec::with_capacity(bucket_count.div_ceil(BLOCK));
-    let mut rest = sides.as_mut_slice();
-    for first in (0..bucket_count).step_by(BLOCK) {
-        let last = (first + BLOCK).min(bucket_count) - 1;
-        let (block, tail) = rest.split_at_mut(bucket(last).end - bucket(first).start);
-        blocks.push((first..last + 1, block));
-        rest = tail;
-    }
-    blocks.par_iter_mut().for_each(|(buckets, block)| {
+    let block_buckets: Vec<std::ops::Range<usize>> = (0..bucket_count)
+        .step_by(BLOCK)
+        .map(|first| first..(first + BLOCK).min(bucket_count))
+        .collect();
+    let block_sides = (block_buckets.iter()).map(|b| bucket(b.end - 1).end - bucket(b.start).start);
+    let blocks = split_lengths_mut(&mut sides, block_sides);
+    (blocks.into_par_iter().zip(block_buckets)).for_each(|(block, buckets)| {
         let base = bucket(buckets.start).start;
-        for b in buckets.clone() {
+        for b in buckets {
             let own = bucket(b);
             block[own.start - base..own.end - base].sort_unstable();
         }

@@ -59,13 +59,7 @@ pub(crate) fn select(
         .map(|block| block.clone().filter(|&s| kept_of(s).is_some()).count())
         .collect();
     let mut kept = vec![(0, false); counts.iter().sum()];
-    let mut parts = Vec::with_capacity(blocks.len());
-    let mut rest = kept.as_mut_slice();
-    for &n in &counts {
-        let (part, tail) = rest.split_at_mut(n);
-        parts.push(part);
-        rest = tail;
-    }
+    let parts = split_lengths_mut(&mut kept, counts);
     (parts.into_par_iter().zip(blocks)).for_each(|(part, block)| {
         for (slot, k) in part.iter_mut().zip(block.filter_map(kept_of)) {
             *slot = k;

@@ -235,13 +235,7 @@ fn sort_copies(copies: Vec<Copy2>) -> Vec<Copy2> {
         sorted[fill[plane(&c)]] = c;
         fill[plane(&c)] += 1;
     }
-    let mut segments = Vec::with_capacity(planes);
-    let mut rest = &mut sorted[..];
-    for w in start.windows(2) {
-        let (segment, tail) = rest.split_at_mut(w[1] - w[0]);
-        segments.push(segment);
-        rest = tail;
-    }
+    let segments = split_lengths_mut(&mut sorted, start.windows(2).map(|w| w[1] - w[0]));
     segments.into_par_iter().for_each(|s| {
         if !s.is_sorted_by_key(|c| c.key) {
             s.sort_unstable_by_key(|c| c.key);
