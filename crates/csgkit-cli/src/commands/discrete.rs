@@ -32,6 +32,7 @@ use csgkit::primitives::{cuboid, torus};
 use csgkit::{DiscreteEngine, DiscreteSurface, Engine, Error, Mesh, Operation, Stage, Stats};
 use serde_json::json;
 
+use super::load_each;
 use crate::progress::{seconds_of, with_bar};
 
 /// Arguments of `csgkit discrete`.
@@ -201,10 +202,8 @@ fn run_op(
     let cells: Vec<f64> = parsed.iter().map(|p| p.1).collect();
     let (grid, levels) = Grid::for_cells(&cells).context("invalid cell sizes")?;
     let t_read = Instant::now();
-    let meshes = parsed
-        .iter()
-        .map(|(path, _)| load(path))
-        .collect::<anyhow::Result<Vec<Mesh>>>()?;
+    let paths: Vec<&Path> = parsed.iter().map(|(path, _)| path.as_path()).collect();
+    let meshes = load_each(&paths, load)?;
     let read_seconds = t_read.elapsed().as_secs_f64();
     let options = DiscretizeOptions {
         fill: match common.fill {

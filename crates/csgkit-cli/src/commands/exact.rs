@@ -27,7 +27,7 @@ use csgkit::mesh::{FaceMode, MeshReport};
 use csgkit::{Engine, ExactEngine, Format, Mesh, Operation, Stats, WriteError, WriteOptions};
 use serde_json::json;
 
-use super::{load_parts, save, warn_if_manifold_lost};
+use super::{load_each, load_parts, save, warn_if_manifold_lost};
 use crate::progress::{seconds_of, with_bar};
 
 /// Below this many input faces the boolean ends before a progress bar would help.
@@ -199,8 +199,7 @@ pub fn run_operands(
 /// with several parts and no `--merge`, one per part ("a.3mf, item 2 (bolt)").
 fn load_operands(paths: &[PathBuf], merge: bool) -> anyhow::Result<Vec<(String, Mesh)>> {
     let mut operands = Vec::new();
-    for path in paths {
-        let loaded = load_parts(path)?;
+    for (path, loaded) in paths.iter().zip(load_each(paths, load_parts)?) {
         let file = path.display().to_string();
         if merge || loaded.parts.len() == 1 {
             let merged = loaded

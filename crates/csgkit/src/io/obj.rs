@@ -22,7 +22,7 @@
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};
 use super::text::{
-    Lines, Tokens, channel, check_finite, next_f64, parse_f32, parse_f64, parse_i64,
+    Lines, Tokens, append_blocks, channel, check_finite, next_f64, parse_f32, parse_f64, parse_i64,
 };
 use super::{Encoding, Format, LoadedMesh};
 use crate::mesh::{FaceId, Mesh, Rgba};
@@ -250,26 +250,28 @@ fn resolve(
 
 /// Appends `mesh` as OBJ text to `out`.
 pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) {
-    let mut f = ryu::Buffer::new();
     out.extend_from_slice(b"# written by csgkit\n");
     for library in mesh.material_libraries() {
         line(out, &[b"mtllib ", &statement_name(library)]);
     }
     let colors = mesh.vertex_colors();
-    for (v, p) in mesh.positions().iter().enumerate() {
-        out.push(b'v');
-        for c in p {
-            out.push(b' ');
-            out.extend_from_slice(f.format(*c).as_bytes());
-        }
-        if let Some(colors) = colors {
-            for &c in &colors[v][..3] {
+    append_blocks(out, mesh.vertex_count(), |vertices, out| {
+        let mut f = ryu::Buffer::new();
+        for v in vertices {
+            out.push(b'v');
+            for c in mesh.positions()[v] {
                 out.push(b' ');
-                out.extend_from_slice(f.format(f64::from(c) / 255.0).as_bytes());
+                out.extend_from_slice(f.format(c).as_bytes());
             }
+            if let Some(colors) = colors {
+                for &c in &colors[v][..3] {
+                    out.push(b' ');
+                    out.extend_from_slice(f.format(f64::from(c) / 255.0).as_bytes());
+                }
+            }
+            out.push(b'\n');
         }
-        out.push(b'\n');
-    }
+    });
     let uv_of = write_distinct(out, b"vt", mesh.corner_uvs().unwrap_or_default(), |uv| {
         uv.map(f64::to_bits)
     });
@@ -350,46 +352,51 @@ fn write_faces(mesh: &Mesh, uv_of: &[u32], normal_of: &[u32], out: &mut Vec<u8>)
         order.sort_by_key(|&f| materials[f]);
     }
     let (has_uv, has_normal) = (mesh.corner_uvs().is_some(), mesh.corner_normals().is_some());
-    let mut int = itoa::Buffer::new();
-    let (mut material, mut group) = (None, None);
-    for f in order {
-        if let Some(id) = mesh
-            .face_materials()
-            .map(|m| m[f])
-            .filter(|&id| material != Some(id))
-        {
-            material = Some(id);
-            line(
-                out,
-                &[b"usemtl ", &statement_name(&mesh.materials()[id as usize])],
-            );
-        }
-        if let Some(id) = mesh
-            .face_groups()
-            .map(|g| g[f])
-            .filter(|&id| group != Some(id))
-        {
-            group = Some(id);
-            line(out, &[b"g ", &statement_name(&mesh.groups()[id as usize])]);
-        }
-        out.push(b'f');
-        let range = mesh.face_range(FaceId::new(f));
-        for (corner, &v) in range.clone().zip(&mesh.corners()[range]) {
-            out.push(b' ');
-            out.extend_from_slice(int.format(v + 1).as_bytes());
-            if has_uv || has_normal {
-                out.push(b'/');
-                if has_uv {
-                    out.extend_from_slice(int.format(uv_of[corner] + 1).as_bytes());
+    append_blocks(out, order.len(), |lines, out| {
+        let mut int = itoa::Buffer::new();
+        // The material and group that the lines before this block left set.
+        let before = lines.start.checked_sub(1).map(|line| order[line]);
+        let mut material = before.and_then(|f| mesh.face_materials().map(|m| m[f]));
+        let mut group = before.and_then(|f| mesh.face_groups().map(|g| g[f]));
+        for &f in &order[lines] {
+            if let Some(id) = mesh
+                .face_materials()
+                .map(|m| m[f])
+                .filter(|&id| material != Some(id))
+            {
+                material = Some(id);
+                line(
+                    out,
+                    &[b"usemtl ", &statement_name(&mesh.materials()[id as usize])],
+                );
+            }
+            if let Some(id) = mesh
+                .face_groups()
+                .map(|g| g[f])
+                .filter(|&id| group != Some(id))
+            {
+                group = Some(id);
+                line(out, &[b"g ", &statement_name(&mesh.groups()[id as usize])]);
+            }
+            out.push(b'f');
+            let range = mesh.face_range(FaceId::new(f));
+            for (corner, &v) in range.clone().zip(&mesh.corners()[range]) {
+                out.push(b' ');
+                out.extend_from_slice(int.format(v + 1).as_bytes());
+                if has_uv || has_normal {
+                    out.push(b'/');
+                    if has_uv {
+                        out.extend_from_slice(int.format(uv_of[corner] + 1).as_bytes());
+                    }
+                }
+                if has_normal {
+                    out.push(b'/');
+                    out.extend_from_slice(int.format(normal_of[corner] + 1).as_bytes());
                 }
             }
-            if has_normal {
-                out.push(b'/');
-                out.extend_from_slice(int.format(normal_of[corner] + 1).as_bytes());
-            }
+            out.push(b'\n');
         }
-        out.push(b'\n');
-    }
+    });
 }
 
 #[cfg(test)]

@@ -17,9 +17,11 @@ mod binary;
 
 use super::builder::{FaceAttributes, MeshBuilder};
 use super::error::{Location, ParseError, malformed};
-use super::text::{Lines, Tokens, channel, check_finite, next_f64, parse_f64, parse_i64};
+use super::text::{
+    Lines, Tokens, append_blocks, channel, check_finite, next_f64, parse_f64, parse_i64,
+};
 use super::{Encoding, Format, LoadedMesh};
-use crate::mesh::{Mesh, Rgba};
+use crate::mesh::{FaceId, Mesh, Rgba};
 
 /// True when the first token after comments is an OFF header keyword.
 pub(crate) fn has_header(data: &[u8]) -> bool {
@@ -242,7 +244,6 @@ fn color(tokens: Tokens<'_>, at: Location) -> Result<Option<Rgba>, ParseError> {
 
 /// Appends `mesh` as OFF text (`COFF` when it has vertex colours) to `out`.
 pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) {
-    let mut f = ryu::Buffer::new();
     let mut int = itoa::Buffer::new();
     let vertex_colors = mesh.vertex_colors();
     out.extend_from_slice(if vertex_colors.is_some() {
@@ -255,23 +256,30 @@ pub(crate) fn write(mesh: &Mesh, out: &mut Vec<u8>) {
         out.push(b' ');
     }
     out.push(b'\n');
-    for (v, p) in mesh.positions().iter().enumerate() {
-        for (k, c) in p.iter().enumerate() {
-            if k > 0 {
-                out.push(b' ');
+    append_blocks(out, mesh.vertex_count(), |vertices, out| {
+        let (mut f, mut int) = (ryu::Buffer::new(), itoa::Buffer::new());
+        for v in vertices {
+            for (k, c) in mesh.positions()[v].iter().enumerate() {
+                if k > 0 {
+                    out.push(b' ');
+                }
+                out.extend_from_slice(f.format(*c).as_bytes());
             }
-            out.extend_from_slice(f.format(*c).as_bytes());
+            write_color(out, vertex_colors.map(|c| c[v]), &mut int);
         }
-        write_color(out, vertex_colors.map(|c| c[v]), &mut int);
-    }
-    for (face, corners) in mesh.faces().enumerate() {
-        out.extend_from_slice(int.format(corners.len()).as_bytes());
-        for &v in corners {
-            out.push(b' ');
-            out.extend_from_slice(int.format(v).as_bytes());
+    });
+    append_blocks(out, mesh.face_count(), |faces, out| {
+        let mut int = itoa::Buffer::new();
+        for face in faces {
+            let corners = mesh.face(FaceId::new(face));
+            out.extend_from_slice(int.format(corners.len()).as_bytes());
+            for &v in corners {
+                out.push(b' ');
+                out.extend_from_slice(int.format(v).as_bytes());
+            }
+            write_color(out, mesh.face_colors().map(|c| c[face]), &mut int);
         }
-        write_color(out, mesh.face_colors().map(|c| c[face]), &mut int);
-    }
+    });
 }
 
 /// Ends a record with an optional integer RGBA colour and a newline.

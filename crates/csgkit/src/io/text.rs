@@ -1,11 +1,46 @@
-//! Byte-level scanning shared by the text readers (OBJ, ASCII STL, ASCII PLY, OFF).
+//! Byte-level scanning shared by the text readers (OBJ, ASCII STL, ASCII PLY, OFF), and the
+//! text writers' blocks of lines formatted side by side ([`append_blocks`]).
 //!
 //! The readers hold the whole file in memory and scan byte slices: lines are found with
 //! `memchr`, tokens split on ASCII whitespace, floats parsed by `fast-float2` (correctly
 //! rounded, so a shortest-representation writer round-trips) and integers by hand.
 //! Nothing here allocates per line.
 
+use std::ops::Range;
+
+use crate::par::*;
+
 use super::error::{Location, ParseError, malformed_number};
+
+/// Records (vertices, faces) per block of [`append_blocks`]: enough text to amortise a task
+/// and a buffer, few enough blocks to balance.
+const RECORDS_PER_BLOCK: usize = 1 << 14;
+
+/// Appends to `out` the text that `write` makes of records `0..count`, called on consecutive
+/// blocks of them, each writing into a buffer of its own, the blocks formatted side by side
+/// on the thread pool and appended in order: the same bytes as one call over all records.
+/// Formatting numbers is most of a text writer's time (a 1.3 M-triangle OBJ took 0.2 s on
+/// one thread).
+pub(crate) fn append_blocks(
+    out: &mut Vec<u8>,
+    count: usize,
+    write: impl Fn(Range<usize>, &mut Vec<u8>) + Sync,
+) {
+    let blocks: Vec<Vec<u8>> = (0..count.div_ceil(RECORDS_PER_BLOCK))
+        .into_par_iter()
+        .map(|b| {
+            let mut text = Vec::new();
+            write(
+                b * RECORDS_PER_BLOCK..count.min((b + 1) * RECORDS_PER_BLOCK),
+                &mut text,
+            );
+            text
+        })
+        .collect();
+    for text in blocks {
+        out.extend_from_slice(&text);
+    }
+}
 
 /// The lines of a text file with their 1-based numbers; a trailing `\r` is removed.
 pub(crate) struct Lines<'a> {

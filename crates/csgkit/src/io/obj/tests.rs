@@ -134,3 +134,48 @@ fn empty_and_face_free_files_are_empty_meshes() {
     assert!(read_str("").unwrap().is_empty());
     assert_eq!(read_str("# nothing\nv 1 2 3\n").unwrap().vertex_count(), 1);
 }
+
+#[test]
+fn blocks_of_lines_name_each_material_and_group_once_per_run() {
+    // Enough faces for several blocks of lines formatted apart: a group changes exactly at a
+    // block's first line, a material run spans a block boundary, and the faces come out
+    // sorted by material, away from their order.
+    let faces = 50_000;
+    let parts = MeshParts {
+        positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        corners: (0..faces).flat_map(|_| [0, 1, 2]).collect(),
+        face_materials: Some((0..faces).map(|f| (3 - f / 12_500) as u32).collect()),
+        materials: ["a", "b", "c", "d"].map(String::from).to_vec(),
+        face_groups: Some((0..faces).map(|f| u32::from(f % 16_384 < 8_192)).collect()),
+        groups: ["even", "odd"].map(String::from).to_vec(),
+        ..MeshParts::default()
+    };
+    let mesh = Mesh::from_parts(parts).unwrap();
+    let mut out = Vec::new();
+    write(&mesh, &mut out);
+    let text = String::from_utf8(out).unwrap();
+    let count = |keyword: &str| text.lines().filter(|l| l.starts_with(keyword)).count();
+    // In the written order (material d's faces first), the runs of each name.
+    let order: Vec<usize> = (0..4)
+        .rev()
+        .flat_map(|m| m * 12_500..(m + 1) * 12_500)
+        .collect();
+    let runs =
+        |of: &dyn Fn(usize) -> u32| 1 + order.windows(2).filter(|w| of(w[0]) != of(w[1])).count();
+    assert_eq!(count("usemtl "), runs(&|f| (3 - f / 12_500) as u32));
+    assert_eq!(count("g "), runs(&|f| u32::from(f % 16_384 < 8_192)));
+    let back = read_str(&text).unwrap();
+    let sorted = |m: &Mesh| {
+        let names = |ids: &[u32], list: &[String]| {
+            ids.iter()
+                .map(|&i| list[i as usize].clone())
+                .collect::<Vec<_>>()
+        };
+        let materials = names(m.face_materials().unwrap(), m.materials());
+        let groups = names(m.face_groups().unwrap(), m.groups());
+        let mut pairs: Vec<(String, String)> = materials.into_iter().zip(groups).collect();
+        pairs.sort();
+        pairs
+    };
+    assert_eq!(sorted(&back), sorted(&mesh));
+}
