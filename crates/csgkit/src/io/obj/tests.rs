@@ -137,16 +137,25 @@ fn empty_and_face_free_files_are_empty_meshes() {
 
 #[test]
 fn blocks_of_lines_name_each_material_and_group_once_per_run() {
-    // Enough faces for several blocks of lines formatted apart: a group changes exactly at a
-    // block's first line, a material run spans a block boundary, and the faces come out
-    // sorted by material, away from their order.
+    // Enough faces for several blocks of lines formatted apart (16 k lines each). The faces
+    // are written sorted by material, the last 12.5 k (material "a") first; in that order a
+    // material run spans each block boundary, and the group changes exactly at each.
     let faces = 50_000;
+    let material = |f: usize| (3 - f / 12_500) as u32;
+    let order: Vec<usize> = (0..4)
+        .rev()
+        .flat_map(|m| m * 12_500..(m + 1) * 12_500)
+        .collect();
+    let mut groups = vec![0u32; faces];
+    for (line, &f) in order.iter().enumerate() {
+        groups[f] = (line / 16_384 % 2) as u32;
+    }
     let parts = MeshParts {
         positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
         corners: (0..faces).flat_map(|_| [0, 1, 2]).collect(),
-        face_materials: Some((0..faces).map(|f| (3 - f / 12_500) as u32).collect()),
+        face_materials: Some((0..faces).map(material).collect()),
         materials: ["a", "b", "c", "d"].map(String::from).to_vec(),
-        face_groups: Some((0..faces).map(|f| u32::from(f % 16_384 < 8_192)).collect()),
+        face_groups: Some(groups.clone()),
         groups: ["even", "odd"].map(String::from).to_vec(),
         ..MeshParts::default()
     };
@@ -155,27 +164,21 @@ fn blocks_of_lines_name_each_material_and_group_once_per_run() {
     write(&mesh, &mut out);
     let text = String::from_utf8(out).unwrap();
     let count = |keyword: &str| text.lines().filter(|l| l.starts_with(keyword)).count();
-    // In the written order (material d's faces first), the runs of each name.
-    let order: Vec<usize> = (0..4)
-        .rev()
-        .flat_map(|m| m * 12_500..(m + 1) * 12_500)
-        .collect();
     let runs =
-        |of: &dyn Fn(usize) -> u32| 1 + order.windows(2).filter(|w| of(w[0]) != of(w[1])).count();
-    assert_eq!(count("usemtl "), runs(&|f| (3 - f / 12_500) as u32));
-    assert_eq!(count("g "), runs(&|f| u32::from(f % 16_384 < 8_192)));
+        |of: &dyn Fn(usize) -> u32| 1 + (order.windows(2)).filter(|w| of(w[0]) != of(w[1])).count();
+    assert_eq!(count("usemtl "), runs(&material));
+    assert_eq!(count("g "), runs(&|f| groups[f]));
     let back = read_str(&text).unwrap();
-    let sorted = |m: &Mesh| {
-        let names = |ids: &[u32], list: &[String]| {
-            ids.iter()
-                .map(|&i| list[i as usize].clone())
-                .collect::<Vec<_>>()
+    let names = |m: &Mesh| {
+        let named = |ids: &[u32], list: &[String]| -> Vec<String> {
+            ids.iter().map(|&i| list[i as usize].clone()).collect()
         };
-        let materials = names(m.face_materials().unwrap(), m.materials());
-        let groups = names(m.face_groups().unwrap(), m.groups());
-        let mut pairs: Vec<(String, String)> = materials.into_iter().zip(groups).collect();
-        pairs.sort();
-        pairs
+        let materials = named(m.face_materials().unwrap(), m.materials());
+        let groups = named(m.face_groups().unwrap(), m.groups());
+        materials.into_iter().zip(groups).collect::<Vec<_>>()
     };
-    assert_eq!(sorted(&back), sorted(&mesh));
+    // Read back in the written order.
+    let given = names(&mesh);
+    let written: Vec<_> = order.iter().map(|&f| given[f].clone()).collect();
+    assert_eq!(names(&back), written);
 }
