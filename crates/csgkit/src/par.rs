@@ -45,6 +45,17 @@ pub(crate) trait ParallelSliceMut<T> {
     fn par_sort_unstable_by_key<K: Ord, F: Fn(&T) -> K + Sync>(&mut self, key: F);
 }
 
+/// `0..count` cut into consecutive ranges of `size` items (the last one shorter): the blocks
+/// a loop hands to its parallel tasks.
+pub(crate) fn block_ranges(
+    count: usize,
+    size: usize,
+) -> impl Iterator<Item = std::ops::Range<usize>> {
+    (0..count)
+        .step_by(size)
+        .map(move |first| first..count.min(first + size))
+}
+
 /// `slice` cut into consecutive parts of `lengths` (which sum to at most its length), for
 /// handing each part to its own task.
 pub(crate) fn split_lengths_mut<T>(

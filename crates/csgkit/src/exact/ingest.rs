@@ -568,10 +568,7 @@ fn link_operand(
         let start = if b == 0 { 0 } else { bounds[b - 1] };
         start as usize..bounds[b] as usize
     };
-    let block_buckets: Vec<std::ops::Range<usize>> = (0..bucket_count)
-        .step_by(BLOCK)
-        .map(|first| first..(first + BLOCK).min(bucket_count))
-        .collect();
+    let block_buckets: Vec<std::ops::Range<usize>> = block_ranges(bucket_count, BLOCK).collect();
     let block_sides = (block_buckets.iter()).map(|b| bucket(b.end - 1).end - bucket(b.start).start);
     let blocks = split_lengths_mut(&mut sides, block_sides);
     (blocks.into_par_iter().zip(block_buckets)).for_each(|(block, buckets)| {

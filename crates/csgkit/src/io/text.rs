@@ -26,14 +26,11 @@ pub(crate) fn append_blocks(
     count: usize,
     write: impl Fn(Range<usize>, &mut Vec<u8>) + Sync,
 ) {
-    let blocks: Vec<Vec<u8>> = (0..count.div_ceil(RECORDS_PER_BLOCK))
-        .into_par_iter()
-        .map(|b| {
+    let ranges: Vec<Range<usize>> = block_ranges(count, RECORDS_PER_BLOCK).collect();
+    let blocks: Vec<Vec<u8>> = (ranges.into_par_iter())
+        .map(|records| {
             let mut text = Vec::new();
-            write(
-                b * RECORDS_PER_BLOCK..count.min((b + 1) * RECORDS_PER_BLOCK),
-                &mut text,
-            );
+            write(records, &mut text);
             text
         })
         .collect();

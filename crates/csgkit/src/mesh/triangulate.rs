@@ -309,10 +309,9 @@ pub fn triangulate_faces_partial(mesh: &Mesh) -> (Triangulation<'_>, Vec<Polygon
     // Faces per parallel task: enough to amortise the task, small enough to balance.
     const BLOCK: usize = 1 << 12;
     let faces = mesh.face_count();
-    let blocks: Vec<(Polygons, Vec<PolygonError>)> = (0..faces.div_ceil(BLOCK))
-        .into_par_iter()
-        .map(|b| {
-            let range = b * BLOCK..faces.min((b + 1) * BLOCK);
+    let ranges: Vec<std::ops::Range<usize>> = block_ranges(faces, BLOCK).collect();
+    let blocks: Vec<(Polygons, Vec<PolygonError>)> = (ranges.into_par_iter())
+        .map(|range| {
             let corners = mesh.face_range(FaceId::new(range.start)).start
                 ..mesh.face_range(FaceId::new(range.end - 1)).end;
             // n - 2 triangles per face of n corners, fewer only for merged corners or errors.

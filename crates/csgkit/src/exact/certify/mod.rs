@@ -1013,14 +1013,11 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
         sums
     };
     let face_count = corners.len() / 3;
-    let chunks = face_count.div_ceil(THIN_SHELL_CHUNK);
-    let measures = if roots.len() * chunks > THIN_SHELL_CHUNK {
+    let chunks: Vec<std::ops::Range<usize>> = block_ranges(face_count, THIN_SHELL_CHUNK).collect();
+    let measures = if roots.len() * chunks.len() > THIN_SHELL_CHUNK {
         chunk_sums(0..face_count)
     } else {
-        let partial: Vec<Vec<(f64, f64)>> = (0..chunks)
-            .into_par_iter()
-            .map(|k| chunk_sums(k * THIN_SHELL_CHUNK..((k + 1) * THIN_SHELL_CHUNK).min(face_count)))
-            .collect();
+        let partial: Vec<Vec<(f64, f64)>> = chunks.into_par_iter().map(chunk_sums).collect();
         let mut total = vec![(0.0f64, 0.0f64); roots.len()];
         for sums in partial {
             for (t, s) in total.iter_mut().zip(sums) {
