@@ -110,7 +110,7 @@ use crate::mesh::{Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_
 use crate::progress::{Cancelled, Counter, Progress, Stage};
 
 use super::assemble::Rounded;
-use super::intersect::Triangle;
+use super::intersect::{IndexedTriangle, Triangle};
 use super::self_intersect::pair_intersects;
 
 mod layers;
@@ -704,48 +704,68 @@ fn problems_among(
     suspects: &[u32],
 ) -> Problems {
     let face = |f: usize| [corners[3 * f], corners[3 * f + 1], corners[3 * f + 2]];
-    let is_suspect = |f: u32| suspects.binary_search(&f).is_ok();
     // The neighbourhood as its own soup, welded by position, so the pair test sees shared
-    // vertices the way a reader of the written file will.
+    // vertices the way a reader of the written file will. Local ids in order of first use,
+    // kept by vertex in a dense table (one plus the id, zero while unseen: the table comes
+    // zeroed from the allocator), so only a vertex's first use hashes its position.
+    let mut local_vertex = vec![0u32; positions.len()];
     let mut local_of: FxHashMap<[u64; 3], u32> = FxHashMap::default();
-    let mut local_vertex: FxHashMap<u32, u32> = FxHashMap::default();
     let mut local_positions = Vec::new();
     let mut coincident = Vec::new();
     let key = |p: [f64; 3]| p.map(|x| (x + 0.0).to_bits());
-    let mut valid: Vec<Triangle> = Vec::with_capacity(near.len());
-    let mut degenerate = Vec::new();
-    for (i, &f) in near.iter().enumerate() {
-        let ids = face(f as usize).map(|v| {
-            *local_vertex.entry(v).or_insert_with(|| {
-                let p = positions[v as usize];
-                let next = local_positions.len() as u32;
-                let id = *local_of.entry(key(p)).or_insert(next);
-                if id == next {
-                    local_positions.push(p);
-                } else {
-                    coincident.push(v);
-                }
-                id
-            })
-        });
-        match Triangle::new(i as u32, ids, ids.map(|v| local_positions[v as usize])) {
-            Some(t) => valid.push(t),
-            None if ids[0] != ids[1] && ids[1] != ids[2] && ids[2] != ids[0] => degenerate.push(f),
-            None => {}
+    for v in near.iter().flat_map(|&f| face(f as usize)) {
+        if local_vertex[v as usize] == 0 {
+            let p = positions[v as usize];
+            let next = local_positions.len() as u32;
+            let id = *local_of.entry(key(p)).or_insert(next);
+            if id == next {
+                local_positions.push(p);
+            } else {
+                coincident.push(v);
+            }
+            local_vertex[v as usize] = id + 1;
         }
     }
-    let marked: Vec<u32> = (valid.iter().enumerate())
-        .filter(|(_, t)| is_suspect(near[t.id() as usize]))
-        .map(|(i, _)| i as u32)
-        .collect();
-    let pairs: Vec<(u32, u32)> =
-        (super::self_intersect::intersecting_pairs_of(valid.len(), |i| valid[i], &marked)
-            .into_iter())
-        .map(|(s, t)| {
-            let face = |i: u32| near[valid[i as usize].id() as usize];
-            (face(s), face(t))
+    // Each face's triangle by its local vertex ids, or whether it is degenerate (three
+    // distinct vertices, collinear). Kept as indexed triangles, a fifth of a full one's bytes:
+    // these records are made afresh every round, and full ones cost more in first touches of
+    // their pages than making them did.
+    let built: Vec<Result<IndexedTriangle, bool>> = (near.par_iter())
+        .map(|&f| {
+            let ids = face(f as usize).map(|v| local_vertex[v as usize] - 1);
+            let made = Triangle::new(0, ids, ids.map(|v| local_positions[v as usize]));
+            (made.as_ref().map(Triangle::indexed))
+                .ok_or(ids[0] != ids[1] && ids[1] != ids[2] && ids[2] != ids[0])
         })
         .collect();
+    // The faces that make a triangle: each one's place in `near`, and its triangle.
+    let mut valid: Vec<(u32, IndexedTriangle)> = Vec::with_capacity(near.len());
+    let mut degenerate = Vec::new();
+    for (place, (built, &f)) in built.into_iter().zip(near).enumerate() {
+        match built {
+            Ok(t) => valid.push((place as u32, t)),
+            Err(true) => degenerate.push(f),
+            Err(false) => {}
+        }
+    }
+    let triangle = |i: usize| {
+        let (place, t) = valid[i];
+        t.with_positions(place, &local_positions)
+    };
+    let face_of = |i: u32| near[valid[i as usize].0 as usize];
+    // Both lists are sorted by face: one merge finds the suspects among the triangles.
+    let mut suspects_left = suspects.iter().peekable();
+    let marked: Vec<u32> = (0..valid.len() as u32)
+        .filter(|&i| {
+            let f = face_of(i);
+            while suspects_left.next_if(|&&s| s < f).is_some() {}
+            suspects_left.peek() == Some(&&f)
+        })
+        .collect();
+    let pairs: Vec<(u32, u32)> =
+        (super::self_intersect::intersecting_pairs_of(valid.len(), triangle, &marked).into_iter())
+            .map(|(s, t)| (face_of(s), face_of(t)))
+            .collect();
     let mut to_snap: Vec<u32> = (pairs.iter())
         .flat_map(|&(s, t)| [s, t])
         .chain(degenerate.iter().copied())
