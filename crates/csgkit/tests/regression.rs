@@ -1,4 +1,6 @@
-//! Regressions, each named after the issue whose work found it.
+//! Regressions, each named after the issue whose work found it, or after the stress run of
+//! random chains of booleans (solids at random places, scales and turns, each result read back
+//! for the next step) that found it.
 
 use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::primitives::cuboid;
@@ -112,4 +114,54 @@ fn issue_13_repeated_faces_count_once() {
         assert_eq!(report.duplicate_faces, 0);
         assert_eq!(repaired.stats.input_triangles, triangles);
     }
+}
+
+/// Stress run: a box of side 0.5 a million units from the origin (a result csgkit wrote, read
+/// back) was refused as "oriented inward": its volume, summed over cones from the origin,
+/// cancelled to −7.4. Ingest now takes the cones from the centre of each operand's box.
+#[test]
+fn stress_run_far_small_operands_are_not_inverted() {
+    let load = |name: &str| {
+        read_mesh(repo_data(&format!("regression/{name}")))
+            .unwrap()
+            .mesh
+    };
+    let (cube, far_box) = (load("far_cube_half.obj"), load("far_box_half.obj"));
+    let volume = |m: &Mesh| m.report().measures.volume;
+    let (a, b) = (volume(&cube), volume(&far_box));
+    assert!((a - 0.125).abs() < 1e-9 && (b - 0.25).abs() < 1e-9, "{a} {b}");
+    let options = BooleanOptions::default();
+    let union = boolean(Operation::Union, &[&cube, &far_box], &options)
+        .unwrap_or_else(|e| panic!("union failed: {e}"));
+    let intersection = boolean(Operation::Intersection, &[&cube, &far_box], &options)
+        .unwrap_or_else(|e| panic!("intersection failed: {e}"));
+    let report = union.mesh.report();
+    assert!(report.is_valid_solid(), "{report:?}");
+    let expected = a + b - volume(&intersection.mesh);
+    let error = (volume(&union.mesh) - expected).abs();
+    assert!(error < 1e-9, "union volume {} against {expected}", volume(&union.mesh));
+    assert_no_self_intersection(&union.mesh, "the union");
+}
+
+/// Stress run: `(A ∪ B) − B` written and read back, then xor-ed with `A`, a box a million
+/// units across whose faces the rebuilt copy matches to rounding. Intersection points of
+/// nearly parallel faces have no usable f64 estimate from the filter (its `W` interval holds
+/// zero), and the split's insertion order sorted their infinite or NaN coordinates and
+/// panicked. The stages' estimates now round such points exactly.
+#[test]
+fn stress_run_nearly_parallel_intersections_do_not_panic() {
+    let load = |name: &str| {
+        read_mesh(repo_data(&format!("regression/{name}")))
+            .unwrap()
+            .mesh
+    };
+    let (rebuilt, original) = (load("rebuilt_box.obj"), load("rebuilt_box_original.obj"));
+    let xor = boolean(Operation::Xor, &[&rebuilt, &original], &BooleanOptions::default())
+        .unwrap_or_else(|e| panic!("xor failed: {e}"));
+    let report = xor.mesh.report();
+    assert!(report.is_valid_solid(), "{report:?}");
+    assert_no_self_intersection(&xor.mesh, "the xor");
+    // What separates the two is a skin an ulp or so thick over a box of volume 1.15e18.
+    let volume = report.measures.volume;
+    assert!((0.0..1e3).contains(&volume), "{volume}");
 }

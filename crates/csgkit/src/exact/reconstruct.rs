@@ -49,7 +49,7 @@
 use crate::par::*;
 use rustc_hash::FxHashMap;
 
-use crate::kernel::{Axis, Point, Sign, compare_along, orient2d_projected, orient3d};
+use crate::kernel::{Axis, Point, Sign, approx_point, compare_along, orient2d_projected, orient3d};
 use crate::mesh::numbering::FaceNumbering;
 use crate::mesh::union_find::UnionFind;
 use crate::mesh::vector::triangle_shape;
@@ -456,7 +456,7 @@ impl Fans {
             if orient2d_projected(&a, &b, &c, source.drop_axis()) != want {
                 return None;
             }
-            worst = worst.min(triangle_shape([a, b, c].map(|p| p.approx())));
+            worst = worst.min(triangle_shape([a, b, c].map(|p| approx_point(&p))));
             new.push((l, moved));
         }
         Some((worst, new))
@@ -471,7 +471,7 @@ fn is_between(u: &Point, v: &Point, w: &Point) -> bool {
     if !collinear {
         return false;
     }
-    let (pu, pw) = (u.approx(), w.approx());
+    let (pu, pw) = (approx_point(u), approx_point(w));
     let axis = Axis::of_largest([pw[0] - pu[0], pw[1] - pu[1], pw[2] - pu[2]]);
     let before = compare_along(u, v, axis);
     before != std::cmp::Ordering::Equal && before == compare_along(v, w, axis)

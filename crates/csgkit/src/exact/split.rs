@@ -74,7 +74,7 @@
 //! and a few short-lived vectors per segment; point insertion itself reuses scratch buffers.
 
 use crate::kernel::{
-    Axis, Point, Point3, Sign, incircle_value_if_clear, normal_component_is_zero,
+    Axis, Point, Point3, Sign, approx_point, incircle_value_if_clear, normal_component_is_zero,
     orient2d_projected, orient2d_projected_if_clear, orient2d_projected_or_collinear,
     orient2d_value_if_clear, orient3d, orient3d_plane,
 };
@@ -226,7 +226,7 @@ impl Projection {
     /// The projection in which `corners` are counterclockwise, or `None` if they are
     /// collinear.
     pub(crate) fn new(corners: &[Point; 3]) -> Option<Projection> {
-        let f = |i: usize| corners[i].approx();
+        let f = |i: usize| approx_point(&corners[i]);
         let (a, b, c) = (f(0), f(1), f(2));
         let (u, v) = (sub(b, a), sub(c, a));
         let n = [
@@ -601,7 +601,7 @@ impl<'a> Cdt<'a> {
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
         (0..self.alias.len() as u32)
             .map(|id| {
-                let p = self.point(id).approx();
+                let p = approx_point(self.point(id));
                 [p[u], p[v]]
             })
             .collect()

@@ -54,8 +54,8 @@ use crate::par::*;
 
 use crate::index::Aabb;
 use crate::kernel::{
-    Axis, Point, Point3, Sign, orient2d, orient2d_projected, orient3d, orient3d_plane,
-    orient3d_points, round_point, simplify,
+    Axis, Point, Point3, Sign, approx_point, orient2d, orient2d_projected, orient3d,
+    orient3d_plane, orient3d_points, round_point, simplify,
 };
 use crate::mesh::union_find::UnionFind;
 
@@ -232,12 +232,7 @@ pub(crate) fn sample_point(
     source: u32,
     corners: &[Point; 3],
 ) -> Option<SamplePoint> {
-    sample_point_near(
-        input,
-        source,
-        corners,
-        corners.each_ref().map(|p| p.approx()),
-    )
+    sample_point_near(input, source, corners, corners.each_ref().map(approx_point))
 }
 
 /// The same with candidates built from the corners rounded correctly, for the patches

@@ -292,8 +292,9 @@ impl Point {
     }
 
     /// Coordinates rounded to f64 (from the midpoints of the cached filter intervals, so a
-    /// few ulps off, and possibly not finite on overflow). For output and display only: no
-    /// decision may be based on them.
+    /// few ulps off, and possibly far off or not finite where the filter cannot bound `W` away
+    /// from zero: the engine's stages read the kernel's `approx_point`, which rounds those
+    /// exactly). No decision may be based on them.
     pub fn approx(&self) -> Point3 {
         match self {
             Point::Explicit(p) => *p,

@@ -151,6 +151,21 @@ pub(crate) fn round_point_with_offsets(p: &Point) -> (Point3, [Option<f64>; 3]) 
     (nearest, offsets)
 }
 
+/// Coordinates of `p` for choices among valid alternatives (insertion orders, diagonals,
+/// projection axes, shapes), which no topological decision reads: [`Point::approx`], a few
+/// ulps off, where the filter bounds the point's `W` away from zero; else its coordinates
+/// rounded exactly. A nearly degenerate definition (a line almost parallel to the plane it
+/// meets, far from the origin) leaves zero inside `W`'s interval, and the midpoints' quotients
+/// can then be far off, infinite or 0 / 0, which sorted or compared as coordinates failed.
+pub(crate) fn approx_point(p: &Point) -> Point3 {
+    let w = p.filter_hom()[3];
+    if w.lo() > 0.0 || w.hi() < 0.0 {
+        p.approx()
+    } else {
+        round_point(p)
+    }
+}
+
 /// The coordinates of `p` rounded to the nearest f64 (ties to even), each independently.
 pub(crate) fn round_point(p: &Point) -> Point3 {
     if let Point::Explicit(x) = p {
