@@ -8,6 +8,13 @@ use csgkit::{Mesh, Operation, read_mesh};
 
 use crate::util::{assert_no_self_intersection, repo_data};
 
+/// A mesh of the repository's `tests/data/regression/`.
+fn load_regression(name: &str) -> Mesh {
+    read_mesh(repo_data(&format!("regression/{name}")))
+        .unwrap()
+        .mesh
+}
+
 /// Issue 11: in the chain of binary unions of OpenSCAD's `example018`, step 21 (`step20 ∪
 /// leaf 27`, a box) wrote 8 pairs of opposite triangles over the same three vertices: step
 /// 20's faces lie only nearly in the box's planes (a vertex at 175.00000000000003), and the
@@ -16,12 +23,10 @@ use crate::util::{assert_no_self_intersection, repo_data};
 /// and the chain goes on.
 #[test]
 fn issue_11_rounded_union_leaves_no_two_sided_sheet() {
-    let load = |name: &str| {
-        read_mesh(repo_data(&format!("regression/{name}")))
-            .unwrap()
-            .mesh
-    };
-    let (step20, leaf27) = (load("example018_step20.ply"), load("example018_leaf27.off"));
+    let (step20, leaf27) = (
+        load_regression("example018_step20.ply"),
+        load_regression("example018_leaf27.off"),
+    );
     let options = BooleanOptions::default();
     let run = |op: Operation, operands: &[&Mesh]| {
         boolean(op, operands, &options).unwrap_or_else(|e| panic!("{op:?} failed: {e}"))
@@ -121,15 +126,16 @@ fn issue_13_repeated_faces_count_once() {
 /// cancelled to −7.4. Ingest now takes the cones from the centre of each operand's box.
 #[test]
 fn stress_run_far_small_operands_are_not_inverted() {
-    let load = |name: &str| {
-        read_mesh(repo_data(&format!("regression/{name}")))
-            .unwrap()
-            .mesh
-    };
-    let (cube, far_box) = (load("far_cube_half.obj"), load("far_box_half.obj"));
+    let (cube, far_box) = (
+        load_regression("far_cube_half.obj"),
+        load_regression("far_box_half.obj"),
+    );
     let volume = |m: &Mesh| m.report().measures.volume;
     let (a, b) = (volume(&cube), volume(&far_box));
-    assert!((a - 0.125).abs() < 1e-9 && (b - 0.25).abs() < 1e-9, "{a} {b}");
+    assert!(
+        (a - 0.125).abs() < 1e-9 && (b - 0.25).abs() < 1e-9,
+        "{a} {b}"
+    );
     let options = BooleanOptions::default();
     let union = boolean(Operation::Union, &[&cube, &far_box], &options)
         .unwrap_or_else(|e| panic!("union failed: {e}"));
@@ -139,7 +145,11 @@ fn stress_run_far_small_operands_are_not_inverted() {
     assert!(report.is_valid_solid(), "{report:?}");
     let expected = a + b - volume(&intersection.mesh);
     let error = (volume(&union.mesh) - expected).abs();
-    assert!(error < 1e-9, "union volume {} against {expected}", volume(&union.mesh));
+    assert!(
+        error < 1e-9,
+        "union volume {} against {expected}",
+        volume(&union.mesh)
+    );
     assert_no_self_intersection(&union.mesh, "the union");
 }
 
@@ -150,14 +160,16 @@ fn stress_run_far_small_operands_are_not_inverted() {
 /// panicked. The stages' estimates now round such points exactly.
 #[test]
 fn stress_run_nearly_parallel_intersections_do_not_panic() {
-    let load = |name: &str| {
-        read_mesh(repo_data(&format!("regression/{name}")))
-            .unwrap()
-            .mesh
-    };
-    let (rebuilt, original) = (load("rebuilt_box.obj"), load("rebuilt_box_original.obj"));
-    let xor = boolean(Operation::Xor, &[&rebuilt, &original], &BooleanOptions::default())
-        .unwrap_or_else(|e| panic!("xor failed: {e}"));
+    let (rebuilt, original) = (
+        load_regression("rebuilt_box.obj"),
+        load_regression("rebuilt_box_original.obj"),
+    );
+    let xor = boolean(
+        Operation::Xor,
+        &[&rebuilt, &original],
+        &BooleanOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("xor failed: {e}"));
     let report = xor.mesh.report();
     assert!(report.is_valid_solid(), "{report:?}");
     assert_no_self_intersection(&xor.mesh, "the xor");
