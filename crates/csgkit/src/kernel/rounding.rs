@@ -158,11 +158,9 @@ pub(crate) fn round_point_with_offsets(p: &Point) -> (Point3, [Option<f64>; 3]) 
 /// meets, far from the origin) leaves zero inside `W`'s interval, and the midpoints' quotients
 /// can then be far off, infinite or 0 / 0, which sorted or compared as coordinates failed.
 pub(crate) fn approx_point(p: &Point) -> Point3 {
-    let w = p.filter_hom()[3];
-    if w.lo() > 0.0 || w.hi() < 0.0 {
-        p.approx()
-    } else {
-        round_point(p)
+    match p.filter_hom()[3].sign() {
+        Some(Sign::Positive | Sign::Negative) => p.approx(),
+        _ => round_point(p),
     }
 }
 
