@@ -4,7 +4,7 @@
 
 use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::primitives::cuboid;
-use csgkit::{Mesh, Operation, read_mesh};
+use csgkit::{Mesh, Operation, Precision, read_mesh};
 
 use crate::util::{assert_no_self_intersection, repo_data};
 
@@ -176,4 +176,46 @@ fn stress_run_nearly_parallel_intersections_do_not_panic() {
     // What separates the two is a skin an ulp or so thick over a box of volume 1.15e18.
     let volume = report.measures.volume;
     assert!((0.0..1e3).contains(&volume), "{volume}");
+}
+
+/// Stress run: results csgkit wrote in f64 (OBJ), read back and written as binary STL, were
+/// refused as invalid: the f32 reading of the operands, before the boolean, folded a polygon
+/// face ("overlaps itself in its projection") or turned a sliver solid a million units
+/// across inside out ("oriented inward"). An operand that reading breaks now keeps its f64
+/// coordinates, which round with the result and are certified in f32.
+#[test]
+fn stress_run_f32_results_of_operands_f32_reading_breaks() {
+    let f32_options = BooleanOptions {
+        precision: Precision::F32,
+        ..BooleanOptions::default()
+    };
+    let folds = load_regression("f32_folds_a_polygon.obj");
+    let exact = boolean(Operation::Union, &[&folds], &BooleanOptions::default())
+        .unwrap_or_else(|e| panic!("f64 union failed: {e}"));
+    let in_f32 = boolean(Operation::Union, &[&folds], &f32_options)
+        .unwrap_or_else(|e| panic!("f32 union failed: {e}"));
+    let report = in_f32.mesh.report();
+    assert!(report.is_valid_solid(), "{report:?}");
+    assert_no_self_intersection(&in_f32.mesh, "the f32 union");
+    let off_f32 = (in_f32.mesh.positions().iter().flatten()).find(|&&x| !Precision::F32.holds(x));
+    assert_eq!(off_f32, None, "a coordinate is not an f32");
+    let (volume, expected) = (report.measures.volume, exact.mesh.report().measures.volume);
+    assert!(
+        (volume - expected).abs() < 1e-5 * expected,
+        "f32 volume {volume} against {expected}"
+    );
+
+    // The sliver bounds 3.1 cubic units over 8e5 units: thinner than an f32 ulp there, so
+    // its f32 form is empty, and certification says so by removing the shell.
+    let sliver = load_regression("f32_inverts_a_sliver.obj");
+    let cube = cuboid([0.0; 3], [1.0; 3]);
+    let difference = boolean(Operation::Difference, &[&sliver, &cube], &f32_options)
+        .unwrap_or_else(|e| panic!("f32 difference failed: {e}"));
+    assert_eq!(difference.mesh.face_count(), 0);
+    assert_eq!(difference.stats.removed_shells, 1);
+    assert_eq!(
+        difference.mesh.vertex_count(),
+        0,
+        "unused vertices are kept"
+    );
 }

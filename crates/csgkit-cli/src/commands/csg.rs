@@ -68,6 +68,7 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
     };
     let mesh = &evaluation.result.mesh;
     super::save(&args.output, mesh, options)?;
+    super::warn_if_thinned_away(&evaluation.result.stats, &args.output);
     let write_seconds = clock.elapsed().as_secs_f64();
     if args.stats {
         let s = &evaluation.result.stats;

@@ -27,7 +27,7 @@ use csgkit::mesh::{FaceMode, MeshReport};
 use csgkit::{Engine, ExactEngine, Format, Mesh, Operation, Stats, WriteError, WriteOptions};
 use serde_json::json;
 
-use super::{load_each, load_parts, save, warn_if_manifold_lost};
+use super::{load_each, load_parts, save, warn_if_manifold_lost, warn_if_thinned_away};
 use crate::progress::{seconds_of, with_bar};
 
 /// Below this many input faces the boolean ends before a progress bar would help.
@@ -183,6 +183,7 @@ pub fn run_operands(
         ..WriteOptions::default()
     };
     save(&args.output, &result.mesh, options)?;
+    warn_if_thinned_away(&result.stats, &args.output);
     let write_seconds = clock.elapsed().as_secs_f64();
     if args.stats {
         let seconds = IoSeconds {

@@ -13,6 +13,7 @@ pub mod repair;
 use std::path::Path;
 
 use anyhow::Context;
+use csgkit::exact::BooleanStats;
 use csgkit::{Format, LoadedMesh, LoadedMeshes, Mesh, WriteOptions};
 use rayon::prelude::*;
 
@@ -64,6 +65,19 @@ pub fn warn_if_manifold_lost(manifold: bool, output: &Path) {
         let name = format.map(|f| f.to_string()).unwrap_or_default();
         eprintln!(
             "csgkit: warning: {name} readers weld equal positions: the manifold split is lost"
+        );
+    }
+}
+
+/// Warns when the result is empty only because certification removed its closed shells as
+/// thinner than a few ulps of the numbers it is written in (a sliver solid far from the
+/// origin, or any thin solid in f32), so an empty file is not taken for an empty exact result.
+pub fn warn_if_thinned_away(stats: &BooleanStats, output: &Path) {
+    if stats.output_faces == 0 && stats.removed_shells > 0 {
+        eprintln!(
+            "csgkit: warning: the result written to {} is empty: its {} closed shells are thinner than a few ulps of its coordinates",
+            output.display(),
+            stats.removed_shells
         );
     }
 }

@@ -47,8 +47,9 @@ pub struct BooleanOptions {
     /// The numbers the result's coordinates are written in: f64, or f32 for a file that
     /// stores f32 (binary STL, glTF), where rounding an f64 result afterwards can make its
     /// faces cross. In f32 the operands are read as f32 first (as they would be from such
-    /// files: every coordinate must lie in the f32 range), and the result is rounded to f32
-    /// and certified there.
+    /// files: every coordinate must lie in the f32 range) unless that makes one invalid (a
+    /// folded polygon, a part turned inside out), and the result is rounded to f32 and
+    /// certified there.
     pub precision: Precision,
 }
 
@@ -96,7 +97,8 @@ pub struct BooleanStats {
     /// to within its tolerance needed.
     pub removed_vertices: usize,
     /// Output vertices that are intersection points rounded to the result's precision (in
-    /// f32 the operands are read as f32 first, so their vertices stay).
+    /// f32 the operands are read as f32 first, so their vertices stay, unless that reading
+    /// made an operand invalid).
     pub rounded_vertices: usize,
     /// Output vertices moved to a coarser grid because rounding made faces cross or
     /// collapse (0 almost always; see the certify stage).
@@ -244,23 +246,38 @@ pub fn boolean_expression(
         )));
     }
     let faces = operands.iter().map(|mesh| mesh.face_count()).sum();
-    let rounded = match options.precision {
+    let mut rounded = match options.precision {
         Precision::F32 => in_f32(operands)?,
         Precision::F64 => Vec::new(),
     };
-    let operands: Vec<&Mesh> = (operands.iter().enumerate())
-        .map(|(k, &mesh)| rounded.get(k).and_then(Option::as_ref).unwrap_or(mesh))
-        .collect();
-    par::on_pool_or_inline(faces, || {
-        run_expression(expression, &operands, options, progress)
-    })
+    loop {
+        let read: Vec<&Mesh> = (operands.iter().enumerate())
+            .map(|(k, &mesh)| rounded.get(k).and_then(Option::as_ref).unwrap_or(mesh))
+            .collect();
+        match par::on_pool_or_inline(faces, || {
+            run_expression(expression, &read, options, progress)
+        }) {
+            // Reading the operand as f32 broke it: a polygon face folded or collapsed, or a
+            // thin or far part turned inside out. The operand as given is valid, so it keeps
+            // its f64 coordinates, and its vertices round with the result, where certify
+            // checks them (at most one more run per operand).
+            Err(BooleanError::InvalidOperand(error))
+                if rounded.get(error.operand()).is_some_and(Option::is_some) =>
+            {
+                rounded[error.operand()] = None;
+            }
+            result => return result,
+        }
+    }
 }
 
 /// Each operand with a coordinate that is not an f32 number, read as f32 (each coordinate the
 /// nearest), as from the file that will hold the result; `None` for the others. Every input
-/// vertex is then a point of the f32 grid, so only intersection points round, and an
-/// operand the rounding folds is resolved as any self-intersecting operand is (with the
-/// self-intersection check on). Refuses a coordinate that rounds to an infinite f32.
+/// vertex is then a point of the f32 grid, so only intersection points round and certify
+/// checks only the faces around them, and an operand the rounding folds is resolved as any
+/// self-intersecting operand is (with the self-intersection check on); one the rounding makes
+/// invalid is read as given after all (see [`boolean_expression`]). Refuses a coordinate
+/// that rounds to an infinite f32.
 fn in_f32(operands: &[&Mesh]) -> Result<Vec<Option<Mesh>>, BooleanError> {
     let mut rounded = Vec::with_capacity(operands.len());
     for (k, mesh) in operands.iter().enumerate() {

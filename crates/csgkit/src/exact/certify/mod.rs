@@ -20,9 +20,9 @@
 //! `M`; a removed thin shell bounds less than its area times `2^THIN_SHELL_LEVEL` ulps of `M`,
 //! and a thin layer turned inside out is thinner than the push that turned it.
 //! Ulps are those of the result's [`Precision`]: in f32 (a result for binary STL or glTF,
-//! whose operands the driver reads as f32 first) the coarsest grid is `2^MAX_SNAP_LEVEL_F32`
-//! f32 ulps, so every coordinate stays within `2^-14 · M` of the exact result of those
-//! operands.
+//! whose operands the driver reads as f32 first where that keeps them valid) the coarsest
+//! grid is `2^MAX_SNAP_LEVEL_F32` f32 ulps, so every coordinate stays within `2^-14 · M` of
+//! the exact result of those operands.
 //! If that is not enough, the stage fails with [`CertifyError::NotCertified`] rather than
 //! return an invalid mesh.
 //!
@@ -296,9 +296,36 @@ pub(crate) fn certify(
 ) -> Result<(Mesh, Certificate), CertifyError> {
     // Units: rounds, of at most MAX_ITERATIONS; almost always one.
     let counter = progress.counter(Stage::Certify, MAX_ITERATIONS);
-    let certified = certify_rounds(rounded, precision, merge_near, &counter, re_refine)?;
+    let (mesh, certificate) = certify_rounds(rounded, precision, merge_near, &counter, re_refine)?;
     counter.finish()?;
-    Ok(certified)
+    Ok((without_unused_vertices(mesh), certificate))
+}
+
+/// `mesh` without the vertices no face uses, numbered in their order. The rounds remove
+/// faces (sheets, thin shells, collapsed slivers) and merge vertices but keep every vertex,
+/// since their checks look only at faces; a written vertex no face uses is noise to the next
+/// tool, and `csgkit check` counts it.
+fn without_unused_vertices(mesh: Mesh) -> Mesh {
+    let mut new_id = vec![u32::MAX; mesh.vertex_count()];
+    for &v in mesh.corners() {
+        new_id[v as usize] = 0;
+    }
+    if !new_id.contains(&u32::MAX) {
+        return mesh;
+    }
+    let mut parts = mesh.into_parts();
+    let mut positions = Vec::with_capacity(parts.positions.len());
+    for (id, position) in new_id.iter_mut().zip(&parts.positions) {
+        if *id == 0 {
+            *id = positions.len() as u32;
+            positions.push(*position);
+        }
+    }
+    parts.positions = positions;
+    for v in &mut parts.corners {
+        *v = new_id[*v as usize];
+    }
+    Mesh::from_parts(parts).expect("every corner's vertex is kept")
 }
 
 /// The rounds of [`certify`]: steps 1–7 until no problem is left.
