@@ -115,6 +115,30 @@ fn booleans_written_in_f32_are_certified_there_and_other_meshes_warn() {
     assert!(output.stderr.is_empty());
 }
 
+/// A solid thinner than an f32 ulp (a sliver of 3.1 cubic units spanning 8e5 units, a result
+/// csgkit wrote in f64) has no f32 form: binary STL gets the empty result, with a warning
+/// that says why, where OBJ gets the sliver.
+#[test]
+fn a_solid_thinner_than_f32_is_written_empty_with_a_warning() {
+    let dir = TempDir::new().expect("temp dir");
+    let sliver = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../csgkit/tests/data/regression/f32_inverts_a_sliver.obj");
+    let cube = write(&dir, "cube.obj", &cuboid([0.0; 3], [1.0; 3]));
+    let stl = dir.path().join("out.stl");
+    let output = csgkit_ok(&["difference", arg(&sliver), arg(&cube), "-o", arg(&stl)]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.starts_with("csgkit: warning: the result written to ")
+            && stderr.contains("is empty: its 1 closed shells are thinner"),
+        "{stderr}"
+    );
+    assert_eq!(volume(&stl), 0.0);
+    let obj = dir.path().join("out.obj");
+    let output = csgkit_ok(&["difference", arg(&sliver), arg(&cube), "-o", arg(&obj)]);
+    assert!(output.stderr.is_empty());
+    assert!(volume(&obj) > 3.0, "{}", volume(&obj));
+}
+
 /// A 3MF of two build items, the boxes [0, 2]³ and [1, 3]³ (the second a moved copy of the
 /// first), in inches.
 fn two_items(dir: &TempDir) -> PathBuf {
