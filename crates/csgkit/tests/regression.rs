@@ -219,3 +219,29 @@ fn stress_run_f32_results_of_operands_f32_reading_breaks() {
         "unused vertices are kept"
     );
 }
+
+/// Stress run: a result csgkit wrote, a sliver solid of volume 7.6e-9 in two shells (16
+/// non-manifold edges), could not be an operand: `r2 − r2` failed as "surface patch N has no
+/// sub-triangle wide enough to sample". The check for nested shells cast its ray from each
+/// shell's first triangle, a sliver too thin for an f64 sample, and so took the winding path,
+/// which has no sample for such patches either. It now casts from the first of the shell's
+/// triangles wide enough.
+#[test]
+fn stress_run_sliver_shells_are_operands() {
+    let sliver = load_regression("sliver_shells.obj");
+    let options = BooleanOptions::default();
+    let volume = |m: &Mesh| m.report().measures.volume;
+    let run = |op| {
+        boolean(op, &[&sliver, &sliver], &options)
+            .unwrap_or_else(|e| panic!("{op:?} of the sliver with itself failed: {e}"))
+    };
+    let difference = run(Operation::Difference);
+    assert_eq!(difference.mesh.face_count(), 0);
+    for op in [Operation::Union, Operation::Intersection] {
+        let result = run(op);
+        let report = result.mesh.report();
+        assert!(report.is_valid_solid(), "{op:?}: {report:?}");
+        assert_eq!(result.mesh.face_count(), sliver.face_count(), "{op:?}");
+        assert_eq!(volume(&result.mesh), volume(&sliver), "{op:?}");
+    }
+}

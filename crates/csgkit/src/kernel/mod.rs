@@ -152,7 +152,7 @@ pub use predicates::{
     orient2d_projected_or_collinear, orient3d_plane, orient3d_points, same_point,
 };
 pub use rounding::{Precision, simplify};
-pub(crate) use rounding::{approx_point, round_point, round_point_with_offsets};
+pub(crate) use rounding::{approx_point, enclosing_box, round_point, round_point_with_offsets};
 
 /// The sign of an exact quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

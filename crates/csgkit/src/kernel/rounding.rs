@@ -164,6 +164,24 @@ pub(crate) fn approx_point(p: &Point) -> Point3 {
     }
 }
 
+/// A box certain to hold `p`, as its lowest and highest corners: the filter's enclosure
+/// where it is narrow (within 64 ulps per coordinate), else the correctly rounded point
+/// widened by one f64 step each way, since a nearly degenerate definition's enclosure can be
+/// unbounded. For tests that boxes can skip, where the exact predicates would otherwise
+/// decide that two far-apart triangles are apart.
+pub(crate) fn enclosing_box(p: &Point) -> (Point3, Point3) {
+    let (lo, hi) = p.enclosure();
+    let narrow = (0..3).all(|k| {
+        let width = hi[k] - lo[k];
+        width.is_finite() && width <= 64.0 * f64::EPSILON * lo[k].abs().max(hi[k].abs())
+    });
+    if narrow {
+        return (lo, hi);
+    }
+    let nearest = round_point(p);
+    (nearest.map(next_down), nearest.map(next_up))
+}
+
 /// The coordinates of `p` rounded to the nearest f64 (ties to even), each independently.
 pub(crate) fn round_point(p: &Point) -> Point3 {
     if let Point::Explicit(x) = p {
