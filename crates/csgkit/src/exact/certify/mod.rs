@@ -296,9 +296,9 @@ pub(crate) fn certify(
 ) -> Result<(Mesh, Certificate), CertifyError> {
     // Units: rounds, of at most MAX_ITERATIONS; almost always one.
     let counter = progress.counter(Stage::Certify, MAX_ITERATIONS);
-    let (mesh, certificate) = certify_rounds(rounded, precision, merge_near, &counter, re_refine)?;
+    let certified = certify_rounds(rounded, precision, merge_near, &counter, re_refine)?;
     counter.finish()?;
-    Ok((without_unused_vertices(mesh), certificate))
+    Ok(certified)
 }
 
 /// `mesh` without the vertices no face uses, numbered in their order. The rounds remove
@@ -363,8 +363,15 @@ fn certify_rounds(
         }
         let problems = find_problems(&mesh, &moved);
         if problems.is_empty() {
+            let shells_before = certificate.removed_shells;
             let mesh = without_thin_shells(mesh, &moved, precision, &mut certificate);
-            return Ok((mesh, certificate));
+            // Every round after the first follows a repair, which may leave vertices unused;
+            // a result the first check finds free of problems is the exact result's rounding,
+            // all of whose vertices are used, and is not scanned.
+            if round == 0 && certificate.removed_shells == shells_before {
+                return Ok((mesh, certificate));
+            }
+            return Ok((without_unused_vertices(mesh), certificate));
         }
         if certificate.rounds >= MAX_REFINEMENTS {
             return Err(CertifyError::not_certified(&problems));
@@ -530,7 +537,7 @@ fn certify_rounds(
     let problems = find_problems(&mesh, &moved);
     if problems.is_empty() {
         let mesh = without_thin_shells(mesh, &moved, precision, &mut certificate);
-        return Ok((mesh, certificate));
+        return Ok((without_unused_vertices(mesh), certificate));
     }
     Err(CertifyError::not_certified(&problems))
 }
