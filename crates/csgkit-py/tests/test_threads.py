@@ -81,3 +81,30 @@ def cube_pair():
     from conftest import cube
 
     return cube(), cube((0.5, 0, 0), (1.5, 1, 1))
+
+
+def test_a_progress_callback_can_run_an_operation():
+    """An operation runs on a worker of the library's thread pool, and so does a progress
+    callback it calls; an operation that callback starts runs right there. With one worker
+    (RAYON_NUM_THREADS=1, in a fresh interpreter) an operation queued for the pool instead
+    would wait for the worker that waits for it; the timeout turns that hang into a
+    failure."""
+    import os
+    import subprocess
+    import sys
+
+    script = """
+import csgkit
+from conftest import cube
+inner = []
+def progress(stage, done, total):
+    if not inner:
+        inner.append(csgkit.check(csgkit.union(cube(), cube((0.5, 0, 0), (1.5, 1, 1))))["volume"])
+result = csgkit.union(cube(), cube((0, 0.5, 0), (1, 1.5, 1)), progress=progress)
+print(inner[0], csgkit.check(result)["volume"])
+"""
+    here = os.path.dirname(os.path.abspath(__file__))
+    done = subprocess.run([sys.executable, "-c", script], cwd=here, capture_output=True, text=True,
+                          timeout=120, env={**os.environ, "RAYON_NUM_THREADS": "1"})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["1.5", "1.5"]
