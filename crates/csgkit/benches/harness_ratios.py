@@ -12,7 +12,16 @@ the timed runs; the peers are every row whose name does not start with "csgkit",
 csgkit build run in the same invocation (`--peer-cmd 'csgkit-plain=BIN {op} {inputs} -o {out}
 --stats'`) is not its own peer, and `--ours csgkit-plain` gives its ratios. Prints one
 Markdown table per family and the geometric mean over every boolean case where csgkit and a
-peer are correct; with --plot, op time against input
+peer are correct.
+
+A second ratio compares first runs: every csgkit run is a fresh CLI process, whose operation
+runs its code for the first time (cold caches, branch predictors, first-touch pages), while
+a peer's timed runs follow a warm-up run in its process. The harness keeps that warm-up's op
+time (`warmup_op_s`), the same first run of the peer's boolean code in a fresh process
+(after its import and its operands' conversion, which are not timed): "cold ratio" =
+csgkit's op / the fastest correct peer's warm-up op.
+
+With --plot, op time against input
 triangles for the sphere_sphere_union and menger families, every peer on one log-log plot,
 with the growth exponent of each (least squares on the logs). matplotlib: pip install it into
 the same venv.
@@ -38,7 +47,7 @@ def main():
     bench.set_results_dir(os.path.abspath(args.results))
     results = bench.load_results()
     bench.annotate(results)
-    rows, ratios = {}, []
+    rows, ratios, cold_ratios = {}, [], []
     for name, by_peer in results["results"].items():
         meta = results["cases"].get(name, {})
         if meta.get("family", "").startswith("voxelize"):
@@ -47,22 +56,33 @@ def main():
         peers = {p: r for p, r in by_peer.items()
                  if p != args.ours and not p.startswith("csgkit") and r.get("correct")}
         best = min(peers.items(), key=lambda kv: kv[1]["op_s"], default=None)
+        cold_peers = {p: r for p, r in peers.items() if r.get("warmup_op_s")}
+        best_cold = min(cold_peers.items(), key=lambda kv: kv[1]["warmup_op_s"], default=None)
         ok = bool(ours and ours.get("correct"))
         ratio = ours["op_s"] / best[1]["op_s"] if ok and best else None
+        cold_ratio = ours["op_s"] / best_cold[1]["warmup_op_s"] if ok and best_cold else None
         if ratio is not None:
             ratios.append(ratio)
-        rows.setdefault(meta.get("family", "?"), []).append((meta.get("column", name), name, ours, best, ok, ratio))
+        if cold_ratio is not None:
+            cold_ratios.append(cold_ratio)
+        rows.setdefault(meta.get("family", "?"), []).append(
+            (name, ours, best, ok, ratio, best_cold, cold_ratio))
     for family, entries in sorted(rows.items()):
         print(f"\n#### {family}\n")
-        print(f"| case | {args.ours} | fastest correct peer | ratio |\n|---|---|---|---|")
-        for column, name, ours, best, ok, ratio in sorted(entries, key=lambda e: e[1]):
+        print(f"| case | {args.ours} | fastest correct peer | ratio "
+              "| fastest first run of a correct peer | cold ratio |\n|---|---|---|---|---|---|")
+        for name, ours, best, ok, ratio, best_cold, cold_ratio in sorted(entries, key=lambda e: e[0]):
             mine = "—" if not ours else f"{bench.fmt_t(ours.get('op_s'))} {'✔' if ok else '⚠ ' + ours.get('status', '')}"
             theirs = f"{best[0]} {bench.fmt_t(best[1]['op_s'])}" if best else "none correct"
-            print(f"| {name} | {mine} | {theirs} | {'%.2f×' % ratio if ratio else '—'} |")
-    if ratios:
-        geo = math.exp(sum(math.log(r) for r in ratios) / len(ratios))
-        print(f"\nGeometric mean over {len(ratios)} cases: {geo:.3f}×; worst {max(ratios):.2f}×; "
-              f"cases above 1.5×: {sum(r > 1.5 for r in ratios)}")
+            theirs_cold = (f"{best_cold[0]} {bench.fmt_t(best_cold[1]['warmup_op_s'])}"
+                           if best_cold else "none correct")
+            print(f"| {name} | {mine} | {theirs} | {'%.2f×' % ratio if ratio else '—'} "
+                  f"| {theirs_cold} | {'%.2f×' % cold_ratio if cold_ratio else '—'} |")
+    for label, values in (("", ratios), ("cold ratios, against first runs: ", cold_ratios)):
+        if values:
+            geo = math.exp(sum(math.log(r) for r in values) / len(values))
+            print(f"\n{label}Geometric mean over {len(values)} cases: {geo:.3f}×; worst "
+                  f"{max(values):.2f}×; cases above 1.5×: {sum(r > 1.5 for r in values)}")
     if plot_path:
         plot(results, plot_path)
 
