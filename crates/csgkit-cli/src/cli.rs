@@ -95,8 +95,9 @@ OpenSCAD: `csgkit csg model.csg` reads what `openscad -o model.csg model.scad` w
 through openscad when it is on PATH), with OpenSCAD 2021's tessellation: group, union, difference,
 intersection, render, multmatrix, color (a material), cube, sphere, cylinder, polyhedron, and 2D
 square, circle, polygon (paths, even-odd) under linear_extrude (height, center, twist, slices,
-scale) and rotate_extrude (angle); 2D booleans are exact. hull, minkowski, offset, text, import,
-surface, projection and resize are errors naming the node and its line.";
+scale) and rotate_extrude (angle); 2D booleans are exact; hull of solids or 2D shapes (exact,
+over unions of leaves). minkowski, offset, text, import, surface, projection and resize are
+errors naming the node and its line.";
 
 /// Parses the command line and runs the chosen subcommand.
 pub fn run() -> anyhow::Result<ExitCode> {

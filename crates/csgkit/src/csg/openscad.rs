@@ -8,11 +8,14 @@
 //! - `cube(size, center)`, `sphere(r)`, `cylinder(h, r1, r2, center)` with `$fn`, `$fa`,
 //!   `$fs`; `polyhedron(points, faces)` (OpenSCAD lists faces clockwise seen from outside, so
 //!   they are reversed).
+//! - `hull()` of solids or of 2D shapes: the exact convex hull ([`convex_hull`],
+//!   [`convex_hull_2d`]) of its leaves' points, placed by the transforms below it, where the
+//!   subtree holds only unions (a hull of a difference is an error);
 //! - Modifiers: `%` and `*` leave their subtree out, `#` keeps it, `!` makes its subtree the
 //!   whole model.
 //!
-//! Every other node (2D shapes and extrusions, `hull`, `minkowski`, `offset`, `text`,
-//! `import`, `surface`, `projection`, `resize`) is an error naming the node and its line.
+//! Every other node (`minkowski`, `offset`, `text`, `import`, `surface`, `projection`,
+//! `resize`) is an error naming the node and its line.
 //!
 //! # Tessellation (OpenSCAD 2021, `src/calc.cc`, `src/primitives.cc`, `src/degree_trig.cc`)
 //! - Fragments of a circle of radius `r`: 3 when `r` is below 2^-20; `max($fn, 3)` when `$fn`
@@ -31,8 +34,7 @@
 use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
 use super::tree::{Node, NodeKind};
 use crate::Operation;
-use crate::mesh::Affine;
-use crate::mesh::Mesh;
+use crate::mesh::{Affine, IDENTITY, Mesh, compose, convex_hull, convex_hull_2d, moved};
 use crate::primitives::{Fragments, circle, cuboid, uv_sphere};
 
 /// Why a `.csg` file could not be read: the line and what is wrong there.
@@ -643,6 +645,31 @@ fn build(
             };
             flat(&outlines)
         }
+        "hull" => {
+            let built = union(children)?;
+            let mut points = Vec::new();
+            if !leaf_points(&built.node, IDENTITY, &mut points) {
+                return Err(bad(
+                    "hull() of a difference, an intersection or an extrusion \
+                                is not supported by csgkit's .csg reader"
+                        .into(),
+                ));
+            }
+            match built.dimension {
+                Dimension::Empty => built,
+                Dimension::Solid => solid(leaf(convex_hull(&points), name, line)),
+                Dimension::Flat => {
+                    let plane: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1]]).collect();
+                    let ring = convex_hull_2d(&plane);
+                    flat(
+                        &(!ring.is_empty())
+                            .then_some(ring)
+                            .into_iter()
+                            .collect::<Vec<_>>(),
+                    )
+                }
+            }
+        }
         "linear_extrude" | "rotate_extrude" => {
             let profile = union(children)?;
             if profile.dimension == Dimension::Solid {
@@ -675,6 +702,22 @@ fn build(
             )));
         }
     })
+}
+
+/// The points of the leaves of a subtree of unions, placed by the transforms within it; false
+/// where it holds another operation or an extrusion, whose points are not its leaves'.
+fn leaf_points(node: &Node, outer: Affine, points: &mut Vec<[f64; 3]>) -> bool {
+    let transform = node.transform.map_or(outer, |own| compose(outer, own));
+    match &node.kind {
+        NodeKind::Mesh { mesh, .. } => {
+            points.extend(mesh.positions().iter().map(|&p| moved(&transform, p)));
+            true
+        }
+        NodeKind::Apply(Operation::Union, children) => {
+            (children.iter()).all(|child| leaf_points(child, transform, points))
+        }
+        NodeKind::Apply(..) | NodeKind::Extrude { .. } => false,
+    }
 }
 
 fn leaf(mesh: Mesh, name: &str, line: usize) -> Node {
@@ -823,12 +866,42 @@ mod tests {
     #[test]
     fn unsupported_nodes_are_named_with_their_line() {
         let err =
-            parse_openscad_csg("group() {\n  cube(size = 1);\n  hull() { sphere(r = 1); }\n}")
+            parse_openscad_csg("group() {\n  cube(size = 1);\n  minkowski() { sphere(r = 1); }\n}")
                 .unwrap_err();
         assert_eq!(
             err.to_string(),
-            "line 3: hull() is not supported by csgkit's .csg reader"
+            "line 3: minkowski() is not supported by csgkit's .csg reader"
         );
+    }
+
+    #[test]
+    fn hulls_of_solids_and_of_2d_shapes_are_exact() {
+        let volume = |text: &str| {
+            let tree = parse_openscad_csg(text).unwrap();
+            let out = super::super::evaluate(
+                &tree,
+                &crate::exact::BooleanOptions::default(),
+                &crate::Progress::default(),
+            )
+            .unwrap();
+            let report = out.result.mesh.report();
+            assert!(report.is_valid_solid(), "{text}");
+            report.measures.volume
+        };
+        // Two unit cubes a diagonal apart: the hull adds the prism between them.
+        let cubes = "hull() { cube(size = 1); multmatrix([[1, 0, 0, 2], [0, 1, 0, 0], \
+                     [0, 0, 1, 0], [0, 0, 0, 1]]) { cube(size = 1); } }";
+        assert_eq!(volume(cubes), 3.0);
+        // A square and a circle of 4 fragments (a diamond) beside it, extruded by 2.
+        let flat = "linear_extrude(height = 2) { hull() { square(size = 1); \
+                    multmatrix([[1, 0, 0, 3], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) \
+                    { circle(r = 1, $fn = 4); } } }";
+        // The hull of (0,0), (1,0), (1,1), (0,1), (4,0), (3,1), (2,0), (3,-1) is the
+        // pentagon (0,0), (3,-1), (4,0), (3,1), (0,1): area 5.5.
+        assert_eq!(volume(flat), 2.0 * 5.5);
+        let err = parse_openscad_csg("hull() { difference() { cube(size = 2); cube(size = 1); } }")
+            .unwrap_err();
+        assert!(err.message.starts_with("hull() of a difference"), "{err}");
     }
 
     #[test]

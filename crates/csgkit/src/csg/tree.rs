@@ -26,7 +26,7 @@ use crate::exact::{
     Boolean, BooleanError, BooleanOptions, BooleanStats, Expression, boolean_expression,
 };
 use crate::kernel::Precision;
-use crate::mesh::{Affine, FaceMode, IDENTITY, Mesh, compose, transformed};
+use crate::mesh::{Affine, FaceMode, IDENTITY, Mesh, compose, moved, transformed};
 use crate::ortho::{MeshOptions, OrthoError, bounded_box, box_union};
 use crate::progress::Progress;
 
@@ -456,11 +456,8 @@ fn shares_a_plane(
         NodeKind::Mesh { mesh, .. } => {
             let leaf = *leaves;
             *leaves += 1;
-            let m = transform;
             let positions: Vec<[f64; 3]> = (mesh.positions().iter())
-                .map(|p| {
-                    [0, 1, 2].map(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + m[i][3])
-                })
+                .map(|&p| moved(&transform, p))
                 .collect();
             mesh.faces().any(|face| {
                 (0..3).any(|k| {
@@ -597,12 +594,6 @@ mod tests {
         ]
     }
 
-    fn determinant(m: &Affine) -> f64 {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    }
-
     /// A cube minus three bars through it, one per axis, whose faces share planes (a Menger
     /// sponge of level 1 without its corners' cubes): 27 − 7 unit cells.
     fn pierced_cube() -> Node {
@@ -635,7 +626,7 @@ mod tests {
         let report = out.result.mesh.report();
         assert!(report.is_valid_solid());
         assert!(crate::exact::self_intersections(&out.result.mesh).is_empty());
-        let volume = 20.0 * determinant(&transform);
+        let volume = 20.0 * crate::mesh::transform::determinant(&transform);
         assert!((report.measures.volume - volume).abs() < 1e-12 * volume);
         // Inside an operation that is not turned, beside a leaf that is.
         let outer = Node::apply(

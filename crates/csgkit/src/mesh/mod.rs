@@ -37,6 +37,10 @@
 //! (volume, vector area, winding numbers), which any triangulation of a polygon's boundary
 //! loop gives alike.
 //!
+//! # Convex hulls
+//! [`convex_hull`] (and [`convex_hull_2d`]) give the hull of points as a closed mesh (a
+//! counterclockwise ring), every decision an exact orientation: OpenSCAD's `hull()`.
+//!
 //! # Making a mesh 2-manifold
 //! A closed mesh may touch itself along edges and at vertices (two cubes sharing an edge).
 //! [`split_non_manifold`] duplicates vertices until every edge has two uses and every vertex
@@ -44,6 +48,7 @@
 
 pub(crate) mod attributes;
 mod degenerate;
+mod hull;
 mod ids;
 mod manifold_split;
 mod measures;
@@ -53,7 +58,7 @@ mod report;
 #[cfg(test)]
 mod test_meshes;
 mod topology;
-mod transform;
+pub(crate) mod transform;
 pub mod triangulate;
 pub(crate) mod union_find;
 mod validation;
@@ -65,13 +70,14 @@ pub use degenerate::{
     DegenerateCounts, FaceShape, are_collinear, coincident_triangles, count_degenerate, face_shape,
     opposite_triangle_pairs,
 };
+pub use hull::{convex_hull, convex_hull_2d};
 pub use ids::{FaceId, OperandId, VertexId};
 pub use manifold_split::split_non_manifold;
 pub use measures::{BoundingBox, Measures, bounding_box, measure};
 pub use merge_faces::{FaceMode, merge_faces};
 pub use report::{MeshReport, analyze};
 pub use topology::{EdgeKind, EdgeTable, EdgeUses, Topology, analyze_topology};
-pub use transform::{Affine, IDENTITY, compose, transformed};
+pub use transform::{Affine, IDENTITY, compose, moved, transformed};
 pub use triangulate::{
     Overlap, PolygonError, Triangulation, triangulate_faces, triangulate_faces_partial,
 };

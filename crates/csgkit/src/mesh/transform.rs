@@ -35,10 +35,16 @@ pub fn compose(outer: Affine, inner: Affine) -> Affine {
 }
 
 /// The determinant of the linear part of `m`.
-fn determinant(m: &Affine) -> f64 {
+pub(crate) fn determinant(m: &Affine) -> f64 {
     m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
+/// `p` moved by `transform`.
+pub fn moved(transform: &Affine, p: [f64; 3]) -> [f64; 3] {
+    let m = transform;
+    [0, 1, 2].map(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + m[i][3])
 }
 
 /// `mesh` moved by `transform`, faces reversed where it mirrors; `None` when the transform is
@@ -54,7 +60,7 @@ pub fn transformed(mesh: &Mesh, transform: &Affine) -> Option<Mesh> {
     }
     let mut parts: MeshParts = mesh.clone().into_parts();
     for p in &mut parts.positions {
-        *p = [0, 1, 2].map(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + m[i][3]);
+        *p = moved(m, *p);
     }
     if let Some(normals) = parts.corner_normals.as_mut() {
         let cofactor = cofactors(m);
