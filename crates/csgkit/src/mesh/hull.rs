@@ -6,21 +6,25 @@
 //! (or [`orient2d`]), and the hull's vertices are input points: the result is exactly the
 //! convex hull of the points given, a closed solid the exact engine takes as it is.
 
-use rustc_hash::FxHashSet;
+use rustc_hash::FxHashMap;
 
 use super::Mesh;
+use super::vector::{cross, dot, sub};
 use crate::kernel::{Sign, orient2d, orient3d};
 
 /// The convex hull of `points`: a closed, outward triangle mesh over its corners (points
-/// inside it are left out; one on a face or an edge of it stays a vertex where it came
-/// before the corners around it, and coplanar triangles stay apart: the solid is the hull
-/// exactly all the same). Empty when the points lie in one plane, so bound no volume.
+/// inside it are left out; one on a face or an edge of it may stay a vertex there, and
+/// coplanar triangles stay apart: the solid is the hull exactly all the same). Empty when
+/// the points lie in one plane, so bound no volume.
 ///
-/// Incremental: each point is tested against every face of the hull so far and, where it
-/// sees some, replaces them by the fan from it to their horizon. A point that only lies in a
-/// face's plane does not see it, and coplanar faces, over one plane, agree on every point,
-/// so what a point sees is always whole flat facets. `O(n h)` for `n` points and `h` hull
-/// faces: milliseconds on OpenSCAD's hulls of a few spheres or cylinders.
+/// Quickhull (Barber, Dobkin & Huhdanpaa 1996): every face keeps the points outside it that
+/// no other face took; the farthest of a face's points (by an f64 estimate, which only
+/// chooses the order) replaces the faces it sees, found across neighbours from that face,
+/// by the fan from it to their horizon, and the seen faces' points go to the new faces they
+/// are outside of (the others are inside the new hull). A point that only lies in a face's
+/// plane does not see it, and coplanar faces, over one plane, agree on every point, so what
+/// a point sees is always whole flat facets. The hull of four spheres of 128 fragments
+/// (32,768 points) took 19 s when every point was tested against every face.
 pub fn convex_hull(points: &[[f64; 3]]) -> Mesh {
     let mut points = points.to_vec();
     points.sort_by(lexicographic);
@@ -28,59 +32,146 @@ pub fn convex_hull(points: &[[f64; 3]]) -> Mesh {
     let Some(simplex) = initial_simplex(&points) else {
         return Mesh::new();
     };
+    let mut hull = Hull {
+        points: &points,
+        faces: Vec::new(),
+        alive: Vec::new(),
+        outside: Vec::new(),
+        face_of_side: FxHashMap::default(),
+        seen_in: Vec::new(),
+    };
     let [a, b, c, d] = simplex.map(|i| i as u32);
-    let mut faces = vec![[a, b, c], [a, d, b], [b, d, c], [c, d, a]];
-    let mut alive = vec![true; 4];
-    let at = |v: u32| points[v as usize];
-    for p in 0..points.len() as u32 {
-        if simplex.contains(&(p as usize)) {
+    let first: Vec<u32> = [[a, b, c], [a, d, b], [b, d, c], [c, d, a]]
+        .into_iter()
+        .map(|face| hull.add(face))
+        .collect();
+    let rest = (0..points.len() as u32).filter(|&p| !simplex.contains(&(p as usize)));
+    hull.assign(rest, &first);
+    let mut pending = first;
+    let mut round = 0;
+    while let Some(f) = pending.pop() {
+        if !hull.alive[f as usize] || hull.outside[f as usize].is_empty() {
             continue;
         }
-        let seen: Vec<usize> = (0..faces.len())
-            .filter(|&f| {
-                let [a, b, c] = faces[f];
-                alive[f] && orient3d(at(a), at(b), at(c), at(p)) == Sign::Negative
-            })
-            .collect();
-        if seen.is_empty() {
-            continue;
+        round += 1;
+        let new = hull.add_farthest_point_of(f, round);
+        pending.extend(new);
+    }
+    hull.into_mesh()
+}
+
+/// A hull being built by [`convex_hull`].
+struct Hull<'a> {
+    points: &'a [[f64; 3]],
+    /// Every face made, outward counterclockwise; those replaced are not `alive`.
+    faces: Vec<[u32; 3]>,
+    alive: Vec<bool>,
+    /// Per face, the points outside it that it holds.
+    outside: Vec<Vec<u32>>,
+    /// The live face of each directed side.
+    face_of_side: FxHashMap<(u32, u32), u32>,
+    /// Per face, the round in which it was last found to be seen.
+    seen_in: Vec<u32>,
+}
+
+impl Hull<'_> {
+    fn add(&mut self, face: [u32; 3]) -> u32 {
+        let f = self.faces.len() as u32;
+        for side in sides(face) {
+            self.face_of_side.insert(side, f);
         }
-        let sides: FxHashSet<(u32, u32)> = (seen.iter())
-            .flat_map(|&f| {
-                let [a, b, c] = faces[f];
-                [(a, b), (b, c), (c, a)]
-            })
-            .collect();
-        for &f in &seen {
-            alive[f] = false;
-            let [a, b, c] = faces[f];
-            for (u, v) in [(a, b), (b, c), (c, a)] {
-                // A side of the seen region whose other face is not seen: the horizon.
-                if !sides.contains(&(v, u)) {
-                    faces.push([u, v, p]);
-                    alive.push(true);
-                }
+        self.faces.push(face);
+        self.alive.push(true);
+        self.outside.push(Vec::new());
+        self.seen_in.push(0);
+        f
+    }
+
+    /// Whether `p` lies strictly outside face `f`.
+    fn sees(&self, f: u32, p: u32) -> bool {
+        let at = |v: u32| self.points[v as usize];
+        let [a, b, c] = self.faces[f as usize];
+        orient3d(at(a), at(b), at(c), at(p)) == Sign::Negative
+    }
+
+    /// Gives each of `points` to the first of `faces` it is outside of, if any.
+    fn assign(&mut self, points: impl Iterator<Item = u32>, faces: &[u32]) {
+        for p in points {
+            if let Some(&f) = faces.iter().find(|&&f| self.sees(f, p)) {
+                self.outside[f as usize].push(p);
             }
         }
     }
-    let kept: Vec<[u32; 3]> = (faces.iter().zip(&alive))
-        .filter(|&(_, &alive)| alive)
-        .map(|(f, _)| *f)
-        .collect();
-    let mut id = vec![u32::MAX; points.len()];
-    let mut corners = Vec::new();
-    let triangles: Vec<[u32; 3]> = (kept.iter())
-        .map(|face| {
-            face.map(|v| {
-                if id[v as usize] == u32::MAX {
-                    id[v as usize] = corners.len() as u32;
-                    corners.push(points[v as usize]);
+
+    /// Adds the point of face `f`'s outside set farthest from its plane; returns the new
+    /// faces.
+    fn add_farthest_point_of(&mut self, f: u32, round: u32) -> Vec<u32> {
+        let at = |v: u32| self.points[v as usize];
+        let [a, b, c] = self.faces[f as usize].map(at);
+        let normal = cross(sub(b, a), sub(c, a));
+        let height = |p: u32| dot(normal, sub(at(p), a));
+        let p = (self.outside[f as usize].iter().copied())
+            .max_by(|&p, &q| height(p).total_cmp(&height(q)))
+            .expect("a face with outside points");
+        // The faces `p` sees, from `f` across neighbours, and the sides where that stops.
+        self.seen_in[f as usize] = round;
+        let mut seen = vec![f];
+        let mut horizon = Vec::new();
+        let mut next = 0;
+        while next < seen.len() {
+            let g = seen[next];
+            next += 1;
+            for (u, v) in sides(self.faces[g as usize]) {
+                let h = self.face_of_side[&(v, u)];
+                if self.seen_in[h as usize] == round {
+                    continue;
                 }
-                id[v as usize]
+                if self.sees(h, p) {
+                    self.seen_in[h as usize] = round;
+                    seen.push(h);
+                } else {
+                    horizon.push((u, v));
+                }
+            }
+        }
+        let mut orphans = Vec::new();
+        for &g in &seen {
+            self.alive[g as usize] = false;
+            orphans.extend(std::mem::take(&mut self.outside[g as usize]));
+            for side in sides(self.faces[g as usize]) {
+                self.face_of_side.remove(&side);
+            }
+        }
+        let new: Vec<u32> = (horizon.iter())
+            .map(|&(u, v)| self.add([u, v, p]))
+            .collect();
+        self.assign(orphans.into_iter().filter(|&q| q != p), &new);
+        new
+    }
+
+    /// The live faces over the points they use.
+    fn into_mesh(self) -> Mesh {
+        let mut id = vec![u32::MAX; self.points.len()];
+        let mut corners = Vec::new();
+        let triangles: Vec<[u32; 3]> = (self.faces.iter().zip(&self.alive))
+            .filter(|&(_, &alive)| alive)
+            .map(|(face, _)| {
+                face.map(|v| {
+                    if id[v as usize] == u32::MAX {
+                        id[v as usize] = corners.len() as u32;
+                        corners.push(self.points[v as usize]);
+                    }
+                    id[v as usize]
+                })
             })
-        })
-        .collect();
-    Mesh::from_triangles(corners, &triangles).expect("indices of the kept corners")
+            .collect();
+        Mesh::from_triangles(corners, &triangles).expect("indices of the kept corners")
+    }
+}
+
+/// The directed sides of a face.
+fn sides([a, b, c]: [u32; 3]) -> [(u32, u32); 3] {
+    [(a, b), (b, c), (c, a)]
 }
 
 /// The convex hull of `points` in the plane: its corners counterclockwise, from the
@@ -181,6 +272,40 @@ mod tests {
                     || [[1.0, 0.0, 0.0], [0.0, -1.0, 0.5], [1.0, 1.0, 0.25]].contains(p))
         );
         assert!(crate::exact::self_intersections(&hull).is_empty());
+    }
+
+    #[test]
+    fn the_hull_of_a_lattice_is_its_box_and_contains_every_point() {
+        // Coplanar and collinear points everywhere: every face of the hull is a flat facet
+        // of 25 points.
+        let lattice: Vec<[f64; 3]> = (0..125)
+            .map(|i| [i % 5, i / 5 % 5, i / 25].map(f64::from))
+            .collect();
+        let hull = convex_hull(&lattice);
+        let report = hull.report();
+        assert!(report.is_valid_solid());
+        assert_eq!(report.measures.volume, 64.0);
+        assert!(crate::exact::self_intersections(&hull).is_empty());
+        // Pseudo-random points in a ball: none lies outside a face.
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let cloud: Vec<[f64; 3]> = (0..2000)
+            .map(|_| [next(), next(), next()])
+            .filter(|p| p.iter().map(|x| x * x).sum::<f64>() <= 1.0)
+            .collect();
+        let hull = convex_hull(&cloud);
+        assert!(hull.report().is_valid_solid());
+        for p in &cloud {
+            for face in hull.faces() {
+                let [a, b, c] = [0, 1, 2].map(|i| hull.positions()[face[i] as usize]);
+                assert_ne!(orient3d(a, b, c, *p), Sign::Negative);
+            }
+        }
     }
 
     #[test]
