@@ -169,13 +169,7 @@ pub fn flatten(
     options: &BooleanOptions,
     progress: &Progress,
 ) -> Result<Flat, CsgError> {
-    let mut flattened = Flattened {
-        options,
-        progress,
-        leaves: Vec::new(),
-        names: Vec::new(),
-        operations: 0,
-    };
+    let mut flattened = Flattened::new(options, progress);
     let expression = flattened.visit(root, IDENTITY, None)?;
     Ok(Flat {
         expression,
@@ -255,7 +249,17 @@ struct Flattened<'a, 'p> {
     operations: usize,
 }
 
-impl Flattened<'_, '_> {
+impl<'a, 'p> Flattened<'a, 'p> {
+    fn new(options: &'a BooleanOptions, progress: &'a Progress<'p>) -> Self {
+        Flattened {
+            options,
+            progress,
+            leaves: Vec::new(),
+            names: Vec::new(),
+            operations: 0,
+        }
+    }
+
     fn visit(
         &mut self,
         node: &Node,
@@ -343,13 +347,7 @@ impl Flattened<'_, '_> {
         transform: Affine,
         material: Option<&str>,
     ) -> Result<Expression, CsgError> {
-        let mut own = Flattened {
-            options: self.options,
-            progress: self.progress,
-            leaves: Vec::new(),
-            names: Vec::new(),
-            operations: 0,
-        };
+        let mut own = Flattened::new(self.options, self.progress);
         let expression = own.apply(node, IDENTITY, material)?;
         self.operations += own.operations;
         let options = BooleanOptions {

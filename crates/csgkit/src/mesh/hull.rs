@@ -240,6 +240,16 @@ fn initial_simplex(points: &[[f64; 3]]) -> Option<[usize; 4]> {
 mod tests {
     use super::*;
 
+    /// Every point is inside the hull or on it: no face of it sees one.
+    fn assert_no_face_sees_any(hull: &Mesh, points: &[[f64; 3]]) {
+        for p in points {
+            for face in hull.faces() {
+                let [a, b, c] = [0, 1, 2].map(|i| hull.positions()[face[i] as usize]);
+                assert_ne!(orient3d(a, b, c, *p), Sign::Negative);
+            }
+        }
+    }
+
     fn cube_corners(min: f64, max: f64) -> Vec<[f64; 3]> {
         (0..8)
             .map(|i| [0, 1, 2].map(|k| if i >> k & 1 == 1 { max } else { min }))
@@ -286,7 +296,7 @@ mod tests {
         assert!(report.is_valid_solid());
         assert_eq!(report.measures.volume, 64.0);
         assert!(crate::exact::self_intersections(&hull).is_empty());
-        // Pseudo-random points in a ball: none lies outside a face.
+        // Pseudo-random points in a ball.
         let mut seed = 7u64;
         let mut next = || {
             seed = seed
@@ -300,12 +310,7 @@ mod tests {
             .collect();
         let hull = convex_hull(&cloud);
         assert!(hull.report().is_valid_solid());
-        for p in &cloud {
-            for face in hull.faces() {
-                let [a, b, c] = [0, 1, 2].map(|i| hull.positions()[face[i] as usize]);
-                assert_ne!(orient3d(a, b, c, *p), Sign::Negative);
-            }
-        }
+        assert_no_face_sees_any(&hull, &cloud);
     }
 
     #[test]
@@ -330,13 +335,7 @@ mod tests {
         let report = hull.report();
         assert!(report.is_valid_solid());
         assert!(crate::exact::self_intersections(&hull).is_empty());
-        // Every input point is inside or on the hull: no face sees any.
-        for p in &points {
-            for face in hull.faces() {
-                let [a, b, c] = [0, 1, 2].map(|i| hull.positions()[face[i] as usize]);
-                assert_ne!(orient3d(a, b, c, *p), Sign::Negative);
-            }
-        }
+        assert_no_face_sees_any(&hull, &points);
     }
 
     #[test]
