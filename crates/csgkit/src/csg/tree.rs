@@ -643,6 +643,29 @@ mod tests {
     }
 
     #[test]
+    fn a_turned_operation_with_an_empty_result_adds_nothing() {
+        let options = BooleanOptions::default();
+        let cube = || Node::mesh(cuboid([0.0; 3], [1.0; 3]), "cube");
+        let nothing = Node {
+            transform: Some(turn(0.7)),
+            ..Node::apply(Operation::Difference, vec![cube(), cube()])
+        };
+        let tree = Node::apply(
+            Operation::Union,
+            vec![nothing, Node::mesh(cuboid([5.0; 3], [7.0; 3]), "apart")],
+        );
+        let flat = flatten(&tree, &options, &Progress::default()).unwrap();
+        assert_eq!(flat.leaves.len(), 1);
+        let report = evaluate(&tree, &options, &Progress::default())
+            .unwrap()
+            .result
+            .mesh
+            .report();
+        assert!(report.is_valid_solid());
+        assert_eq!(report.measures.volume, 8.0);
+    }
+
+    #[test]
     fn turned_leaves_without_shared_planes_stay_in_one_pass() {
         let options = BooleanOptions::default();
         let apart = Node::apply(
