@@ -592,6 +592,13 @@ mod tests {
         ]
     }
 
+    /// The report of `tree`'s result under the default options.
+    fn evaluated_report(tree: &Node) -> crate::mesh::MeshReport {
+        let options = BooleanOptions::default();
+        let out = evaluate(tree, &options, &Progress::default()).unwrap();
+        out.result.mesh.report()
+    }
+
     /// A cube minus three bars through it, one per axis, whose faces share planes (a Menger
     /// sponge of level 1 without its corners' cubes): 27 − 7 unit cells.
     fn pierced_cube() -> Node {
@@ -633,11 +640,7 @@ mod tests {
         );
         let flat = flatten(&outer, &options, &Progress::default()).unwrap();
         assert_eq!(flat.leaves.len(), 2);
-        let report = evaluate(&outer, &options, &Progress::default())
-            .unwrap()
-            .result
-            .mesh
-            .report();
+        let report = evaluated_report(&outer);
         assert!(report.is_valid_solid());
         assert!((report.measures.volume - (volume + 1.0)).abs() < 1e-12 * volume);
     }
@@ -656,11 +659,7 @@ mod tests {
         );
         let flat = flatten(&tree, &options, &Progress::default()).unwrap();
         assert_eq!(flat.leaves.len(), 1);
-        let report = evaluate(&tree, &options, &Progress::default())
-            .unwrap()
-            .result
-            .mesh
-            .report();
+        let report = evaluated_report(&tree);
         assert!(report.is_valid_solid());
         assert_eq!(report.measures.volume, 8.0);
     }
