@@ -194,7 +194,8 @@ pub fn check_openscad_csg(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    if let Ok(root) = parse_openscad_csg(text) {
+    let missing = Path::new("/nonexistent-fuzz-folder");
+    if let Ok(root) = parse_openscad_csg(text, missing) {
         check_flatten(&root);
     }
 }

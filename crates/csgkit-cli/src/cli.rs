@@ -96,7 +96,9 @@ through openscad when it is on PATH), with OpenSCAD 2021's tessellation: group, 
 intersection, render, multmatrix, color (a material), cube, sphere, cylinder, polyhedron, and 2D
 square, circle, polygon (paths, even-odd) under linear_extrude (height, center, twist, slices,
 scale) and rotate_extrude (angle); 2D booleans are exact; hull of solids or 2D shapes (exact,
-over unions of leaves). minkowski, offset, text, import, surface, projection and resize are
+over unions of leaves); import of mesh files (STL, OBJ, OFF, 3MF, PLY, glTF; a relative path
+starts from the .csg file's directory, or the .scad's), read once each, their materials kept.
+minkowski, offset, text, surface, projection, resize and imported 2D drawings (DXF, SVG) are
 errors naming the node and its line.";
 
 /// Parses the command line and runs the chosen subcommand.

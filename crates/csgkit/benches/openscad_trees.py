@@ -26,6 +26,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -135,6 +136,11 @@ def main():
         folder = os.path.join(args.examples, group)
         if not os.path.isdir(folder):
             continue
+        # The mesh parts the models import, beside their exports: an export names them as
+        # the model does, relative to its directory.
+        for part in os.listdir(folder):
+            if part.endswith(".stl"):
+                shutil.copy(os.path.join(folder, part), out)
         for name in sorted(f for f in os.listdir(folder) if f.endswith(".scad")):
             stem = name[:-5]
             scad = os.path.join(folder, name)

@@ -21,10 +21,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let Some(model) = args.first() else {
         return Err("usage: csg_trees MODEL.csg|SCENE.json [--expand DIR]".into());
     };
+    let path = std::path::Path::new(model);
     let tree = if model.ends_with(".json") {
-        read_scene(std::path::Path::new(model))?
+        read_scene(path)?
     } else {
-        parse_openscad_csg(&std::fs::read_to_string(model)?)?
+        let base = path.parent().unwrap_or(std::path::Path::new("."));
+        parse_openscad_csg(&std::fs::read_to_string(model)?, base)?
     };
     let options = BooleanOptions::default();
     let flat = flatten(&tree, &options, &Progress::default())?;

@@ -97,6 +97,11 @@ pub fn run(args: &CsgArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The directory of `file`, from which the paths it names start.
+fn directory_of(file: &Path) -> &Path {
+    file.parent().unwrap_or(Path::new("."))
+}
+
 /// The tree of a JSON scene, an OpenSCAD `.csg` file, or a `.scad` file (through `openscad
 /// -o TMP.csg` when OpenSCAD is on PATH).
 fn read_tree(scene: &Path) -> anyhow::Result<Node> {
@@ -108,7 +113,8 @@ fn read_tree(scene: &Path) -> anyhow::Result<Node> {
         "csg" => {
             let text = std::fs::read_to_string(scene)
                 .with_context(|| format!("cannot read {}", scene.display()))?;
-            parse_openscad_csg(&text).with_context(|| format!("{}", scene.display()))
+            parse_openscad_csg(&text, directory_of(scene))
+                .with_context(|| format!("{}", scene.display()))
         }
         "scad" => {
             let dir = tempfile::TempDir::new().context("cannot make a temporary directory")?;
@@ -123,7 +129,9 @@ fn read_tree(scene: &Path) -> anyhow::Result<Node> {
             match status {
                 Ok(s) if s.success() && csg.exists() => {
                     let text = std::fs::read_to_string(&csg)?;
-                    parse_openscad_csg(&text)
+                    // The export writes an imported file's path as the model names it:
+                    // relative to the model's directory, not the temporary one.
+                    parse_openscad_csg(&text, directory_of(scene))
                         .with_context(|| format!("{} (exported by openscad)", scene.display()))
                 }
                 Ok(_) => bail!("openscad could not export {}", scene.display()),

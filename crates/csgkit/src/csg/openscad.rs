@@ -11,11 +11,15 @@
 //! - `hull()` of solids or of 2D shapes: the exact convex hull ([`convex_hull`],
 //!   [`convex_hull_2d`]) of its leaves' points, placed by the transforms below it, where the
 //!   subtree holds only unions (a hull of a difference is an error);
+//! - `import(file)` of a mesh file csgkit reads (STL, OBJ, OFF, 3MF, PLY, glTF), a path
+//!   relative to the `.csg` file's directory, as OpenSCAD reads it (an export writes the path
+//!   as the model names it), each file read once however often it is imported; its faces
+//!   keep their materials. A 2D drawing (DXF, SVG) is an error.
 //! - Modifiers: `%` and `*` leave their subtree out, `#` keeps it, `!` makes its subtree the
 //!   whole model.
 //!
-//! Every other node (`minkowski`, `offset`, `text`, `import`, `surface`, `projection`,
-//! `resize`) is an error naming the node and its line.
+//! Every other node (`minkowski`, `offset`, `text`, `surface`, `projection`, `resize`) is an
+//! error naming the node and its line.
 //!
 //! # Tessellation (OpenSCAD 2021, `src/calc.cc`, `src/primitives.cc`, `src/degree_trig.cc`)
 //! - Fragments of a circle of radius `r`: 3 when `r` is below 2^-20; `max($fn, 3)` when `$fn`
@@ -31,9 +35,13 @@
 //! or `slices` above 10 000 (a sphere of that many fragments has 5·10⁷ faces) are errors
 //! naming their line, where OpenSCAD would render nothing, render garbage, or run out of memory.
 
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
 use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
 use super::tree::{Node, NodeKind};
 use crate::Operation;
+use crate::io::read_mesh;
 use crate::mesh::{Affine, IDENTITY, Mesh, compose, convex_hull, convex_hull_2d, moved};
 use crate::primitives::{Fragments, circle, cuboid, uv_sphere};
 
@@ -47,16 +55,23 @@ pub struct OpenScadError {
     pub message: String,
 }
 
-/// Reads the text of a `.csg` file into a tree (see the module docs).
+/// Reads the text of a `.csg` file into a tree (see the module docs); `import()` reads the
+/// files it names relative to `base`, the directory of the `.csg` file.
 ///
 /// # Errors
-/// [`OpenScadError`] naming the line of a malformed statement or an unsupported node.
-pub fn parse_openscad_csg(text: &str) -> Result<Node, OpenScadError> {
+/// [`OpenScadError`] naming the line of a malformed statement, an unsupported node or an
+/// imported file that cannot be read (with the reader's own error: the file, and the line or
+/// byte at fault).
+pub fn parse_openscad_csg(text: &str, base: &Path) -> Result<Node, OpenScadError> {
     let tokens = tokenize(text)?;
     let mut parser = Parser {
         tokens,
         at: 0,
         outlines_made: 0,
+        imports: Imports {
+            base,
+            read: HashMap::new(),
+        },
     };
     let mut roots = Vec::new();
     let mut root_only = None;
@@ -238,15 +253,47 @@ enum Value {
     Undef,
 }
 
-struct Parser {
+struct Parser<'a> {
     tokens: Vec<(Token, usize)>,
     at: usize,
     /// Outlines of 2D shapes so far: each prism outline gets its own height (see
     /// [`super::extrude`]).
     outlines_made: u32,
+    imports: Imports<'a>,
 }
 
-impl Parser {
+/// The mesh files `import()` names, each read once: a model that places one part many times
+/// (a `for` loop of imports, which the export unrolls) reads its file once.
+struct Imports<'a> {
+    /// The directory relative paths start from.
+    base: &'a Path,
+    read: HashMap<PathBuf, Mesh>,
+}
+
+impl Imports<'_> {
+    /// The mesh of `file`, or why there is none.
+    fn mesh(&mut self, file: &str) -> Result<Mesh, String> {
+        let path = self.base.join(file);
+        if let Some(mesh) = self.read.get(&path) {
+            return Ok(mesh.clone());
+        }
+        let extension = (path.extension().and_then(|e| e.to_str()))
+            .unwrap_or_default()
+            .to_ascii_lowercase();
+        if matches!(extension.as_str(), "dxf" | "svg") {
+            return Err(format!(
+                "import(\"{file}\"): 2D drawings (DXF, SVG) are not supported by csgkit's .csg reader"
+            ));
+        }
+        let mesh = read_mesh(&path)
+            .map_err(|e| format!("import(\"{file}\"): {e}"))?
+            .mesh;
+        self.read.insert(path, mesh.clone());
+        Ok(mesh)
+    }
+}
+
+impl Parser<'_> {
     fn done(&self) -> bool {
         self.at >= self.tokens.len()
     }
@@ -331,7 +378,14 @@ impl Parser {
         if let Some(child) = root_child {
             return Ok(Some((child, true)));
         }
-        let built = build(&name, &args, children, line, &mut self.outlines_made)?;
+        let built = build(
+            &name,
+            &args,
+            children,
+            line,
+            &mut self.outlines_made,
+            &mut self.imports,
+        )?;
         Ok((!skip).then_some((built, root)))
     }
 
@@ -440,6 +494,7 @@ fn build(
     children: Vec<Built>,
     line: usize,
     outlines_made: &mut u32,
+    imports: &mut Imports,
 ) -> Result<Built, OpenScadError> {
     let bad = |message: String| OpenScadError { line, message };
     let union = |children| combine(Operation::Union, children, line);
@@ -645,6 +700,16 @@ fn build(
             };
             flat(&outlines)
         }
+        "import" => {
+            let Some(Value::Str(file)) = argument(args, "file", 0) else {
+                return Err(bad("import needs a file name".into()));
+            };
+            let mesh = imports.mesh(file).map_err(bad)?;
+            solid(Node::mesh(
+                mesh,
+                format!("import(\"{file}\") at line {line}"),
+            ))
+        }
         "hull" => {
             let built = union(children)?;
             let mut points = Vec::new();
@@ -837,6 +902,11 @@ mod tests {
     use crate::csg::NodeKind;
     use crate::primitives::{cos_degrees, sin_degrees};
 
+    /// The tree of `text`, with imports relative to the working directory.
+    fn parse(text: &str) -> Result<Node, OpenScadError> {
+        parse_openscad_csg(text, Path::new("."))
+    }
+
     #[test]
     fn fragments_follow_openscad() {
         let args = |fn_: f64| vec![(Some("$fn".to_owned()), Value::Number(fn_))];
@@ -866,8 +936,7 @@ mod tests {
     #[test]
     fn unsupported_nodes_are_named_with_their_line() {
         let err =
-            parse_openscad_csg("group() {\n  cube(size = 1);\n  minkowski() { sphere(r = 1); }\n}")
-                .unwrap_err();
+            parse("group() {\n  cube(size = 1);\n  minkowski() { sphere(r = 1); }\n}").unwrap_err();
         assert_eq!(
             err.to_string(),
             "line 3: minkowski() is not supported by csgkit's .csg reader"
@@ -877,7 +946,7 @@ mod tests {
     #[test]
     fn hulls_of_solids_and_of_2d_shapes_are_exact() {
         let volume = |text: &str| {
-            let tree = parse_openscad_csg(text).unwrap();
+            let tree = parse(text).unwrap();
             let out = super::super::evaluate(
                 &tree,
                 &crate::exact::BooleanOptions::default(),
@@ -899,20 +968,79 @@ mod tests {
         // The hull of (0,0), (1,0), (1,1), (0,1), (4,0), (3,1), (2,0), (3,-1) is the
         // pentagon (0,0), (3,-1), (4,0), (3,1), (0,1): area 5.5.
         assert_eq!(volume(flat), 2.0 * 5.5);
-        let err = parse_openscad_csg("hull() { difference() { cube(size = 2); cube(size = 1); } }")
-            .unwrap_err();
+        let err = parse("hull() { difference() { cube(size = 2); cube(size = 1); } }").unwrap_err();
         assert!(err.message.starts_with("hull() of a difference"), "{err}");
+    }
+
+    /// A unit cube as OBJ text, its faces of material `steel`.
+    const STEEL_CUBE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n\
+        v 1 1 1\nv 0 1 1\nusemtl steel\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\n\
+        f 3 4 8 7\nf 4 1 5 8\n";
+
+    #[test]
+    fn imports_read_mesh_files_relative_to_the_csg_file_once() {
+        let dir = tempfile::TempDir::new().unwrap();
+        std::fs::create_dir(dir.path().join("parts")).unwrap();
+        std::fs::write(dir.path().join("parts/cube.obj"), STEEL_CUBE).unwrap();
+        // The part, and the part moved half its width along x: the union is 1.5 long.
+        let text = "union() {\n  import(file = \"parts/cube.obj\", convexity = 1);\n  \
+                    multmatrix([[1, 0, 0, 0.5], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) \
+                    { import(\"parts/cube.obj\"); }\n}";
+        let tree = parse_openscad_csg(text, dir.path()).unwrap();
+        let out = super::super::evaluate(
+            &tree,
+            &crate::exact::BooleanOptions::default(),
+            &crate::Progress::default(),
+        )
+        .unwrap();
+        let mesh = &out.result.mesh;
+        let report = mesh.report();
+        assert!(report.is_valid_solid(), "{report:?}");
+        assert_eq!(report.measures.volume, 1.5);
+        // The faces keep the part's material.
+        assert_eq!(mesh.materials(), ["steel"]);
+        assert!(mesh.face_materials().unwrap().iter().all(|&m| m == 0));
+
+        // A file is read once: the second import of it comes from what the first read.
+        let mut imports = Imports {
+            base: dir.path(),
+            read: HashMap::new(),
+        };
+        let first = imports.mesh("parts/cube.obj").unwrap();
+        std::fs::remove_file(dir.path().join("parts/cube.obj")).unwrap();
+        let again = imports.mesh("parts/cube.obj").unwrap();
+        assert_eq!(first.positions(), again.positions());
+    }
+
+    #[test]
+    fn imports_that_cannot_be_read_are_errors_naming_the_file_and_line() {
+        let dir = tempfile::TempDir::new().unwrap();
+        let err = parse_openscad_csg("cube(size = 1);\nimport(\"missing.stl\");", dir.path())
+            .unwrap_err();
+        assert_eq!(err.line, 2);
+        assert!(
+            err.message.starts_with("import(\"missing.stl\"): "),
+            "{err}"
+        );
+        assert!(err.message.contains("missing.stl"), "{err}");
+        // A truncated file: the reader's error, with its place in the file.
+        std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 3\n").unwrap();
+        let err = parse_openscad_csg("import(\"bad.obj\");", dir.path()).unwrap_err();
+        assert!(err.message.contains("line 3"), "{err}");
+        let err = parse_openscad_csg("import(file = \"plate.dxf\");", dir.path()).unwrap_err();
+        assert!(err.message.contains("2D drawings"), "{err}");
+        let err = parse_openscad_csg("import(convexity = 3);", dir.path()).unwrap_err();
+        assert_eq!(err.message, "import needs a file name");
     }
 
     #[test]
     fn modifiers_follow_openscad() {
-        let tree =
-            parse_openscad_csg("cube(size = 1);\n%sphere(r = 1);\n*cube(size = 2);").unwrap();
+        let tree = parse("cube(size = 1);\n%sphere(r = 1);\n*cube(size = 2);").unwrap();
         let NodeKind::Apply(Operation::Union, children) = &tree.kind else {
             panic!()
         };
         assert_eq!(children.len(), 1);
-        let tree = parse_openscad_csg("cube(size = 1);\n!sphere(r = 1);").unwrap();
+        let tree = parse("cube(size = 1);\n!sphere(r = 1);").unwrap();
         assert!(matches!(tree.kind, NodeKind::Mesh { .. }));
     }
 
@@ -923,7 +1051,7 @@ mod tests {
             "cylinder(h = 0, r = 1);",
             "cylinder(h = -2, r1 = 1, r2 = 2);",
         ] {
-            let tree = parse_openscad_csg(text).unwrap();
+            let tree = parse(text).unwrap();
             // The file's statements are united; this one is the union's only child.
             let leaf = match &tree.kind {
                 NodeKind::Apply(Operation::Union, children) if children.len() == 1 => {
@@ -936,34 +1064,28 @@ mod tests {
             };
             assert!(mesh.is_empty(), "{text}");
         }
-        let err =
-            parse_openscad_csg("group() {\n  cylinder(h = 1, r1 = -1, r2 = 1);\n}").unwrap_err();
+        let err = parse("group() {\n  cylinder(h = 1, r1 = -1, r2 = 1);\n}").unwrap_err();
         assert_eq!(err.line, 2);
         assert!(err.message.contains("radii of at least 0"), "{err}");
     }
 
     #[test]
     fn numbers_beyond_f64_are_errors_naming_their_line() {
-        let err = parse_openscad_csg("cube(size = 1);\ncube(size = 1e999);").unwrap_err();
+        let err = parse("cube(size = 1);\ncube(size = 1e999);").unwrap_err();
         assert_eq!(err.line, 2);
         assert_eq!(err.message, "1e999 is beyond the range of f64 numbers");
     }
 
     #[test]
     fn fragment_counts_beyond_the_limit_are_errors() {
-        let err = parse_openscad_csg("sphere($fn = 1e9, r = 1);").unwrap_err();
+        let err = parse("sphere($fn = 1e9, r = 1);").unwrap_err();
         assert_eq!(err.line, 1);
         assert!(
             err.message.starts_with("$fn = 1000000000 asks for more"),
             "{err}"
         );
         let extrude = "linear_extrude(height = 1, slices = 1e7) { square(size = 1); }";
-        assert!(
-            parse_openscad_csg(extrude)
-                .unwrap_err()
-                .message
-                .contains("slices")
-        );
+        assert!(parse(extrude).unwrap_err().message.contains("slices"));
         // $fa and $fs of 0 count as 0.01: at most 360 / 0.01 fragments.
         let args = vec![
             (Some("$fa".to_owned()), Value::Number(0.0)),

@@ -394,8 +394,9 @@ impl<'a, 'p> Flattened<'a, 'p> {
 }
 
 /// Collects the boxes of a subtree made only of unions of cuboid leaves that bound
-/// axis-aligned boxes once placed ([`bounded_box`]), with no material below its root; false
-/// for any other subtree.
+/// axis-aligned boxes once placed ([`bounded_box`]), with no material below its root and no
+/// attribute on a leaf's faces, corners or vertices (an imported part's materials or UVs,
+/// which the orthogonal engine's boxes do not carry); false for any other subtree.
 fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
     let transform = node.placement(outer);
     match &node.kind {
@@ -404,7 +405,9 @@ fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
         // Only a bare cuboid (its eight corners, nothing else): the orthogonal engine keeps
         // no other vertex, and a 2D shape's prism needs its ring in z = 0. A box moved by
         // anything but a scaled signed permutation is no longer one.
-        NodeKind::Mesh { mesh, .. } if mesh.vertex_count() == 8 && bounded_box(mesh).is_some() => {
+        NodeKind::Mesh { mesh, .. }
+            if mesh.vertex_count() == 8 && is_bare(mesh) && bounded_box(mesh).is_some() =>
+        {
             match placed(mesh, transform, None).as_ref().and_then(bounded_box) {
                 Some(b) => {
                     boxes.push(b);
@@ -415,6 +418,18 @@ fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
         }
         _ => false,
     }
+}
+
+/// Whether `mesh` carries nothing but its shape: no face material, group or colour, no
+/// corner UV or normal, no vertex colour.
+fn is_bare(mesh: &Mesh) -> bool {
+    let parts = mesh.parts();
+    parts.face_materials.is_none()
+        && parts.face_groups.is_none()
+        && parts.face_colors.is_none()
+        && parts.corner_uvs.is_none()
+        && parts.corner_normals.is_none()
+        && parts.vertex_colors.is_none()
 }
 
 /// Whether `node`, an operation placed by `transform`, is one that [`evaluate`] evaluates
@@ -577,6 +592,26 @@ mod tests {
         );
         let flat = flatten(&mixed, &options, &Progress::default()).unwrap();
         assert_eq!(flat.leaves.len(), 3);
+        // A cube whose own faces carry a material (an imported part) keeps the union in the
+        // exact engine, whose result gives its faces that material back.
+        let mut parts = cuboid([0.0; 3], [1.0; 3]).into_parts();
+        parts.face_materials = Some(vec![0; 12]);
+        parts.materials = vec!["steel".to_owned()];
+        let painted = Node {
+            transform: Some(shift(1.0, 0.5)),
+            ..Node::mesh(Mesh::from_parts(parts).unwrap(), "painted cube")
+        };
+        let with_material = Node::apply(Operation::Union, vec![moved(shift(0.0, 0.0)), painted]);
+        let flat = flatten(&with_material, &options, &Progress::default()).unwrap();
+        assert_eq!(flat.leaves.len(), 2);
+        let mesh = evaluate(&with_material, &options, &Progress::default())
+            .unwrap()
+            .result
+            .mesh;
+        assert_eq!(mesh.report().measures.volume, 3.5);
+        let steel = mesh.materials().iter().position(|m| m == "steel").unwrap() as u32;
+        let painted_faces = (mesh.face_materials().unwrap().iter()).filter(|&&m| m == steel);
+        assert!(painted_faces.count() > 0);
     }
 
     /// A turn about the axis (1, 1, 1) by `angle`, as OpenSCAD's `rotate` writes it: rounded
