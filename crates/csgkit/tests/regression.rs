@@ -245,3 +245,39 @@ fn stress_run_sliver_shells_are_operands() {
         assert_eq!(volume(&result.mesh), volume(&sliver), "{op:?}");
     }
 }
+
+/// Stress run: a result csgkit wrote (126 faces) holds a thin closed shell of four sliver
+/// triangles, attached to the rest of the solid along three non-manifold edges. No f64 sample
+/// point fits in any of them, no other part of their faces is classified, and nothing lies
+/// in their planes, so `r1 − cube` failed as "surface patch 8 has no sub-triangle wide enough
+/// to sample", even with the cube far away. The winding numbers now turn about an edge of the
+/// sliver from a classified sheet in another plane.
+#[test]
+fn stress_run_a_thin_shell_on_edges_is_an_operand() {
+    let solid = load_regression("thin_shell_on_edges.off");
+    let options = BooleanOptions::default();
+    let volume = |m: &Mesh| m.report().measures.volume;
+    let run = |op: Operation, other: &Mesh| {
+        let result = boolean(op, &[&solid, other], &options)
+            .unwrap_or_else(|e| panic!("{op:?} failed: {e}"))
+            .mesh;
+        let report = result.report();
+        assert!(report.is_valid_solid(), "{op:?}: {report:?}");
+        assert_no_self_intersection(&result, &format!("{op:?}"));
+        volume(&result)
+    };
+    // Far from the solid: the difference is the solid, the union both.
+    let far = cuboid([-0.5, 0.75, -0.375], [1.0, 1.25, 0.875]);
+    assert_eq!(run(Operation::Difference, &far), volume(&solid));
+    let union = run(Operation::Union, &far);
+    assert!((union - volume(&solid) - volume(&far)).abs() <= 1e-12);
+    // A cube through the solid beside the sliver: vol(A ∪ B) + vol(A ∩ B) = vol(A) + vol(B).
+    let through = cuboid([0.25, -0.5, -1.5], [1.0, 0.0, -0.5]);
+    let (union, intersection) = (
+        run(Operation::Union, &through),
+        run(Operation::Intersection, &through),
+    );
+    let expected = volume(&solid) + volume(&through);
+    assert!((union + intersection - expected).abs() <= 1e-12 * expected);
+    assert!(intersection > 0.0);
+}

@@ -45,6 +45,10 @@
 //!    same all over that patch, which overlaps the sliver, so they are the sliver's front
 //!    when the stack face faces the same way, and its back otherwise, from which the front
 //!    follows exactly by undoing every coincident face's orientation, as `back` adds them.
+//!    A sliver with neither (a thin shell of slivers attached to the solid along its edges,
+//!    in no other face's plane) takes them from a classified sheet at one of its edges in
+//!    another plane: turning about the edge from that sheet's front to the sliver's crosses
+//!    the sheets between them, in their exact angular order about the edge.
 //!
 //! # Complexity
 //! The operands' trees ([`TriangleTrees`], the self-intersection check's) and one ray per
@@ -298,8 +302,9 @@ fn sample_point_near(
 ///
 /// # Errors
 /// [`StageError::Unsupported`] when a patch has no sub-triangle wide enough to hold an f64
-/// sample point strictly inside and no classified neighbour in its face or its coincident
-/// stack; [`StageError::Cancelled`].
+/// sample point strictly inside and no classified neighbour in its face, its coincident
+/// stack or at its edges (a closed shell of slivers that touches nothing);
+/// [`StageError::Cancelled`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn select(
     expression: &Expression,
@@ -399,7 +404,9 @@ struct PatchAt {
 /// its face (a sliver that is a whole input triangle, or whose neighbours in `T` are slivers
 /// too, with another operand's coplanar faces on every edge, which make each a patch
 /// boundary), each takes them from a classified patch of its coincident stack instead
-/// ([`front_from_stack`]). The sliver's coincident faces are found exactly ([`sliver_stack`]).
+/// ([`front_from_stack`]); with none there either, from a classified sheet at one of its
+/// edges, in any plane ([`front_around_edge`]). The sliver's coincident faces are found
+/// exactly ([`sliver_stack`]).
 fn propagate_to_slivers(
     input: &Input,
     arr: &Arrangement,
@@ -514,11 +521,41 @@ fn propagate_to_slivers(
             });
             progress = true;
         }
+        if progress {
+            continue;
+        }
+        // Last, across faces: a classified sheet at an edge of the sliver in another plane.
+        for (slot, &s) in pending.iter().enumerate() {
+            let p = patch_of[s as usize] as usize;
+            if found[p].is_some() {
+                continue;
+            }
+            let tri = arr.triangles[s as usize];
+            let known = (0..3).find_map(|i| {
+                let (a, b) = (tri[i], tri[(i + 1) % 3]);
+                let group = &at_edge[&key(a, b)];
+                (group.iter())
+                    .find(|&&q| found[patch_of[q as usize] as usize].is_some())
+                    .map(|&q| (a, b, group, q))
+            });
+            let Some((a, b, group, q)) = known else {
+                continue;
+            };
+            let front = front_around_edge(input, arr, patch_of, found, [a, b], group, q, s);
+            let (coincident, stack) = (stacks[slot].take())
+                .unwrap_or_else(|| sliver_stack(input, arr, trees, s, &mut boxes));
+            found[p] = Some(Sample {
+                front,
+                coincident,
+                stack,
+            });
+            progress = true;
+        }
         if !progress {
             let p = found.iter().position(Option::is_none).unwrap_or(0);
             return Err(StageError::Unsupported(format!(
                 "surface patch {p} has no sub-triangle wide enough to sample and no classified \
-                 neighbour in its face or its coincident stack"
+                 neighbour in its face, its coincident stack or at its edges"
             )));
         }
     }
@@ -562,6 +599,132 @@ fn front_from_stack(
         front.sort_unstable();
     }
     Some(front)
+}
+
+/// The winding numbers just in front of sub-triangle `s`, from the classified sub-triangle
+/// `q` that shares its edge `(a, b)` (`group`: every sub-triangle at that edge), in any plane:
+/// turning about the edge from just in front of `q` to just in front of `s` crosses the sheets
+/// at the edge in between, each changing its operand's winding number by one, down where the
+/// turn enters its front and up where it enters its back.
+///
+/// Why this is exact: near the edge, the sheets are half-planes about its line, and the
+/// winding numbers are constant in each wedge between two consecutive ones. The turn starts in
+/// the wedge just past `q`'s half-plane on its front side, where the winding numbers are
+/// `q`'s patch's front (no surface crosses a patch), and every sheet's angle from there is
+/// decided by exact orientations of the sheets' third corners (`orient3d_points` about the
+/// edge, and `orient2d_projected` in `q`'s plane for sheets in it). For a sliver too thin for
+/// a sample whose own face has no classified part (a whole input face, a thin shell attached
+/// to the solid along its edges, as a boolean can write one).
+#[allow(clippy::too_many_arguments)]
+fn front_around_edge(
+    input: &Input,
+    arr: &Arrangement,
+    patch_of: &[u32],
+    found: &[Option<Sample>],
+    [a, b]: [u32; 2],
+    group: &[u32],
+    q: u32,
+    s: u32,
+) -> Vec<(u32, i32)> {
+    let point = |v: u32| arr.point(input, v).into_owned();
+    let third = |r: u32| {
+        let corners = arr.triangles[r as usize];
+        point(
+            *corners
+                .iter()
+                .find(|&&v| v != a && v != b)
+                .expect("three corners"),
+        )
+    };
+    // Whether sheet r runs from a to b: then its orientation is that of (a, b, its third
+    // corner), else the opposite.
+    let runs_a_to_b = |r: u32| {
+        let corners = arr.triangles[r as usize];
+        let i = corners.iter().position(|&v| v == a).expect("a is a corner");
+        corners[(i + 1) % 3] == b
+    };
+    let (pa, pb, xq) = (point(a), point(b), third(q));
+    // The turn goes into q's front: the side where orient3d(a, b, x_q, ·) has this sign
+    // (a sheet's front is where its own orient3d is negative).
+    let turn = if runs_a_to_b(q) {
+        Sign::Negative
+    } else {
+        Sign::Positive
+    };
+    let axis = input.triangle(arr.source[q as usize] as usize).drop_axis();
+    let on_q_side = orient2d_projected(&pa, &pb, &xq, axis);
+    // The angle from q's half-plane, coarsely: 0 on it, 1 in the half the turn enters first,
+    // 2 on the opposite half-plane, 3 in the other half.
+    let class = |x: &Point| match orient3d_points(&pa, &pb, &xq, x) {
+        Sign::Zero if orient2d_projected(&pa, &pb, x, axis) == on_q_side => 0u8,
+        Sign::Zero => 2,
+        side if side == turn => 1,
+        _ => 3,
+    };
+    // Within one half, y lies further along the turn than x when orient3d(a, b, x, y) has
+    // the turn's sign.
+    let mut sheets: Vec<(u8, Point, u32)> = (group.iter())
+        .map(|&r| {
+            let x = third(r);
+            (class(&x), x, r)
+        })
+        .collect();
+    let order = |(c, x, _): &(u8, Point, u32), (d, y, _): &(u8, Point, u32)| {
+        c.cmp(d).then_with(|| {
+            if c % 2 == 0 {
+                return std::cmp::Ordering::Equal;
+            }
+            match orient3d_points(&pa, &pb, x, y) {
+                Sign::Zero => std::cmp::Ordering::Equal,
+                side if side == turn => std::cmp::Ordering::Less,
+                _ => std::cmp::Ordering::Greater,
+            }
+        })
+    };
+    sheets.sort_by(&order);
+    // Crossing sheet r along the turn enters its front (its operand's winding number falls by
+    // one: the front is outside) or its back (it rises by one).
+    let crossing = |r: u32| {
+        if runs_a_to_b(r) == (turn == Sign::Negative) {
+            -1
+        } else {
+            1
+        }
+    };
+    let at_s = (sheets.iter())
+        .find(|sheet| sheet.2 == s)
+        .expect("s is a sheet at its own edge");
+    let front_is_past_s = crossing(s) < 0;
+    // The sheets crossed from just past q's half-plane to just in front of s. The wedge just
+    // past q's half-plane has crossed every sheet on it; so for s on that half-plane, its
+    // front is that wedge or, on the other side, the wedge a whole turn later.
+    let crossed = (sheets.iter()).filter(|sheet| {
+        if sheet.0 == 0 {
+            return false;
+        }
+        if at_s.0 == 0 {
+            return !front_is_past_s;
+        }
+        match order(sheet, at_s) {
+            std::cmp::Ordering::Less => true,
+            std::cmp::Ordering::Equal => front_is_past_s,
+            std::cmp::Ordering::Greater => false,
+        }
+    });
+    let mut front = (found[patch_of[q as usize] as usize].as_ref())
+        .expect("q is classified")
+        .front
+        .clone();
+    for sheet in crossed {
+        let k = input.operand[arr.source[sheet.2 as usize] as usize];
+        match front.iter_mut().find(|e| e.0 == k) {
+            Some(entry) => entry.1 += crossing(sheet.2),
+            None => front.push((k, crossing(sheet.2))),
+        }
+    }
+    front.retain(|e| e.1 != 0);
+    front.sort_unstable();
+    front
 }
 
 /// The coincident faces of sub-triangle `s`, found exactly, for a sliver no f64 point fits in:
