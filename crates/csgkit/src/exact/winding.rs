@@ -355,6 +355,10 @@ pub(crate) fn select(
         );
     });
     counter.finish()?;
+    // In the crate's tests, the turn that classifies slivers is checked against the rays
+    // wherever both apply: every pair of sheets at an edge whose patches rays classified.
+    #[cfg(test)]
+    tests::assert_turns_agree_with_rays(input, arr, patch_of, &found);
     if missing > 0 {
         propagate_to_slivers(input, arr, trees, patch_of, &mut found)?;
     }
@@ -939,4 +943,97 @@ pub(crate) fn has_nested_shells(input: &Input, trees: &TriangleTrees) -> bool {
             None => true,
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Operation;
+    use crate::exact::{BooleanOptions, boolean};
+    use crate::mesh::{Mesh, concatenate};
+    use crate::primitives::{cuboid, icosphere};
+
+    /// For every edge of the arrangement and every two sheets at it whose patches rays
+    /// classified, [`front_around_edge`] from one gives the other's ray-cast front.
+    pub(super) fn assert_turns_agree_with_rays(
+        input: &Input,
+        arr: &Arrangement,
+        patch_of: &[u32],
+        found: &[Option<Sample>],
+    ) {
+        let mut at_edge: rustc_hash::FxHashMap<[u32; 2], Vec<u32>> = Default::default();
+        for (s, t) in arr.triangles.iter().enumerate() {
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                at_edge
+                    .entry([a.min(b), a.max(b)])
+                    .or_default()
+                    .push(s as u32);
+            }
+        }
+        let front = |s: u32| {
+            found[patch_of[s as usize] as usize]
+                .as_ref()
+                .map(|f| &f.front)
+        };
+        for (edge, group) in &at_edge {
+            for &s in group {
+                let Some(by_ray) = front(s) else { continue };
+                for &q in group.iter().filter(|&&q| q != s && front(q).is_some()) {
+                    let turned = front_around_edge(input, arr, patch_of, found, *edge, group, q, s);
+                    assert_eq!(
+                        &turned, by_ray,
+                        "edge {edge:?}: from sheet {q} to sheet {s}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Booleans that take the winding path, so that the check above runs on their edges:
+    /// operands whose faces cross, nested shells, sheets meeting at non-manifold edges, and
+    /// coplanar faces across operands. Each result is a valid solid of the expected volume.
+    #[test]
+    fn turns_about_edges_agree_with_rays() {
+        let options = BooleanOptions::default();
+        let volume = |mesh: &Mesh| mesh.report().measures.volume;
+        let run = |op: Operation, operands: &[&Mesh]| {
+            let out = boolean(op, operands, &options).unwrap();
+            assert!(out.stats.winding_classification, "{op:?}");
+            let report = out.mesh.report();
+            assert!(report.is_valid_solid(), "{op:?}: {report:?}");
+            volume(&out.mesh)
+        };
+        // Two crossing cubes written as one mesh, with a cube sharing faces and edges with
+        // both: the union of the three.
+        let crossing = concatenate(&[
+            cuboid([0.0; 3], [2.0; 3]),
+            cuboid([1.0, 1.0, 1.0], [3.0, 3.0, 3.0]),
+        ])
+        .unwrap();
+        let beside = cuboid([2.0, 0.0, 0.0], [3.0, 1.0, 2.0]);
+        assert_eq!(
+            run(Operation::Union, &[&crossing, &beside]),
+            8.0 + 8.0 - 1.0 + 2.0
+        );
+        assert_eq!(run(Operation::Intersection, &[&crossing, &beside]), 0.0);
+        // A cube with a second, outward cube inside it (winding number 2 there), cut by a bar
+        // through both.
+        let nested =
+            concatenate(&[cuboid([0.0; 3], [3.0; 3]), cuboid([1.0; 3], [2.0; 3])]).unwrap();
+        let bar = cuboid([1.0, 1.0, -1.0], [2.0, 2.0, 4.0]);
+        assert_eq!(run(Operation::Difference, &[&nested, &bar]), 27.0 - 3.0);
+        // Two cubes meeting along an edge, as one mesh, and spheres crossing each other.
+        let along_edge = concatenate(&[
+            cuboid([0.0; 3], [1.0; 3]),
+            cuboid([1.0, 1.0, 0.0], [2.0, 2.0, 1.0]),
+            icosphere([1.0, 1.0, 0.5], 0.4, 2),
+        ])
+        .unwrap();
+        let slab = cuboid([-1.0, -1.0, 0.25], [3.0, 3.0, 0.75]);
+        let cut = run(Operation::Intersection, &[&along_edge, &slab]);
+        // Half of each cube, and the parts of the sphere (volume below 4π/3 · 0.4³ < 0.27)
+        // in the two quadrants about the edge that no cube fills.
+        assert!(cut > 1.0 && cut < 1.0 + 0.27 / 2.0, "{cut}");
+    }
 }
