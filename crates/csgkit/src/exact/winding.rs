@@ -506,6 +506,8 @@ fn propagate_to_slivers(
         if progress {
             continue;
         }
+        // Then from a classified patch of the sliver's coincident stack or, with none, from a
+        // classified sheet at one of its edges, in another plane.
         for (slot, &s) in pending.iter().enumerate() {
             let p = patch_of[s as usize] as usize;
             if found[p].is_some() {
@@ -513,41 +515,23 @@ fn propagate_to_slivers(
             }
             let (coincident, stack) =
                 stacks[slot].get_or_insert_with(|| sliver_stack(input, arr, trees, s, &mut boxes));
-            let Some(front) = front_from_stack(input, arr, patch_of, found, coincident, stack)
-            else {
+            let front =
+                front_from_stack(input, arr, patch_of, found, coincident, stack).or_else(|| {
+                    let tri = arr.triangles[s as usize];
+                    (0..3).find_map(|i| {
+                        let edge = [tri[i], tri[(i + 1) % 3]];
+                        let group = &at_edge[&key(edge[0], edge[1])];
+                        let q = *(group.iter())
+                            .find(|&&q| found[patch_of[q as usize] as usize].is_some())?;
+                        Some(front_around_edge(
+                            input, arr, patch_of, found, edge, group, q, s,
+                        ))
+                    })
+                });
+            let Some(front) = front else {
                 continue;
             };
             let (coincident, stack) = stacks[slot].take().expect("computed above");
-            found[p] = Some(Sample {
-                front,
-                coincident,
-                stack,
-            });
-            progress = true;
-        }
-        if progress {
-            continue;
-        }
-        // Last, across faces: a classified sheet at an edge of the sliver in another plane.
-        for (slot, &s) in pending.iter().enumerate() {
-            let p = patch_of[s as usize] as usize;
-            if found[p].is_some() {
-                continue;
-            }
-            let tri = arr.triangles[s as usize];
-            let known = (0..3).find_map(|i| {
-                let (a, b) = (tri[i], tri[(i + 1) % 3]);
-                let group = &at_edge[&key(a, b)];
-                (group.iter())
-                    .find(|&&q| found[patch_of[q as usize] as usize].is_some())
-                    .map(|&q| (a, b, group, q))
-            });
-            let Some((a, b, group, q)) = known else {
-                continue;
-            };
-            let front = front_around_edge(input, arr, patch_of, found, [a, b], group, q, s);
-            let (coincident, stack) = (stacks[slot].take())
-                .unwrap_or_else(|| sliver_stack(input, arr, trees, s, &mut boxes));
             found[p] = Some(Sample {
                 front,
                 coincident,
