@@ -73,6 +73,7 @@ enum Command {
 const CSG_HELP: &str = "\
 A node is an object with exactly one of these keys, and optionally \"transform\" and \"material\":
   {\"union\" | \"intersection\" | \"difference\": [node, ...]}   (difference: the first minus the others)
+  {\"hull\": [node, ...]}                                   the exact convex hull of leaves and unions
   {\"mesh\": \"part.stl\"}                                      any format csgkit reads
   {\"cube\": {\"size\": [x, y, z] | s, \"center\": bool}}
   {\"sphere\": {\"r\": R, \"segments\": N}}                       OpenSCAD's tessellation

@@ -37,7 +37,7 @@ fn a_bad_node_is_named_by_its_json_path() {
     let scene = dir.path().join("bad.json");
     std::fs::write(
         &scene,
-        r#"{"union": [{"cube": {"size": 1}}, {"hull": []}]}"#,
+        r#"{"union": [{"cube": {"size": 1}}, {"minkowski": []}]}"#,
     )
     .unwrap();
     let out = dir.path().join("out.obj");
@@ -45,7 +45,7 @@ fn a_bad_node_is_named_by_its_json_path() {
     assert_eq!(output.status.code(), Some(2));
     let message = String::from_utf8_lossy(&output.stderr);
     assert!(
-        message.contains("/union/1: unknown key \"hull\""),
+        message.contains("/union/1: unknown key \"minkowski\""),
         "{message}"
     );
     assert!(!out.exists(), "nothing is written on an error");

@@ -42,7 +42,7 @@ use super::extrude::{Extrusion, LinearExtrude, RotateExtrude, prism};
 use super::tree::{Node, NodeKind};
 use crate::Operation;
 use crate::io::read_mesh;
-use crate::mesh::{Affine, IDENTITY, Mesh, compose, convex_hull, convex_hull_2d, moved};
+use crate::mesh::{Affine, Mesh, convex_hull, convex_hull_2d};
 use crate::primitives::{Fragments, circle, cuboid, uv_sphere};
 
 /// Why a `.csg` file could not be read: the line and what is wrong there.
@@ -713,7 +713,7 @@ fn build(
         "hull" => {
             let built = union(children)?;
             let mut points = Vec::new();
-            if !leaf_points(&built.node, IDENTITY, &mut points) {
+            if !built.node.union_points(&mut points) {
                 return Err(bad(
                     "hull() of a difference, an intersection or an extrusion \
                                 is not supported by csgkit's .csg reader"
@@ -767,22 +767,6 @@ fn build(
             )));
         }
     })
-}
-
-/// The points of the leaves of a subtree of unions, placed by the transforms within it; false
-/// where it holds another operation or an extrusion, whose points are not its leaves'.
-fn leaf_points(node: &Node, outer: Affine, points: &mut Vec<[f64; 3]>) -> bool {
-    let transform = node.transform.map_or(outer, |own| compose(outer, own));
-    match &node.kind {
-        NodeKind::Mesh { mesh, .. } => {
-            points.extend(mesh.positions().iter().map(|&p| moved(&transform, p)));
-            true
-        }
-        NodeKind::Apply(Operation::Union, children) => {
-            (children.iter()).all(|child| leaf_points(child, transform, points))
-        }
-        NodeKind::Apply(..) | NodeKind::Extrude { .. } => false,
-    }
 }
 
 fn leaf(mesh: Mesh, name: &str, line: usize) -> Node {

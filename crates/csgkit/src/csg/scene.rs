@@ -4,6 +4,8 @@
 //! `"material"`:
 //! - `"union"`, `"intersection"`, `"difference"`: an array of child nodes (a difference is
 //!   the first minus the others);
+//! - `"hull"`: an array of child nodes made of leaves and unions only: the exact convex hull
+//!   of their placed points ([`convex_hull`]; empty where they lie in one plane);
 //! - `"mesh"`: the path of a mesh file (any format csgkit reads);
 //! - `"cube"`: `{"size": [x, y, z] | s, "center": bool}` (from the origin, or centred on it);
 //! - `"sphere"`: `{"r": R, "segments": N}`, OpenSCAD's tessellation with N fragments
@@ -34,7 +36,7 @@ use super::tree::{Node, NodeKind};
 use crate::Operation;
 use crate::io::{ReadError, read_mesh};
 use crate::mesh::Affine;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, convex_hull};
 use crate::ortho::{MeshOptions, box_union, box_union_with_materials, read_box_file};
 use crate::primitives::{cuboid, cylinder, uv_sphere};
 
@@ -112,10 +114,11 @@ fn bad(at: &str, message: impl Into<String>) -> SceneError {
     }
 }
 
-const KINDS: [&str; 8] = [
+const KINDS: [&str; 9] = [
     "union",
     "intersection",
     "difference",
+    "hull",
     "mesh",
     "cube",
     "sphere",
@@ -167,6 +170,25 @@ fn node(value: &Value, at: &str, base: &Path) -> Result<Node, SceneError> {
                 .map(|(i, child)| node(child, &format!("{here}/{i}"), base))
                 .collect::<Result<Vec<_>, _>>()?;
             NodeKind::Apply(op, children)
+        }
+        "hull" => {
+            let Some(children) = body.as_array() else {
+                return Err(bad(&here, "a hull takes an array of nodes"));
+            };
+            let children = (children.iter().enumerate())
+                .map(|(i, child)| node(child, &format!("{here}/{i}"), base))
+                .collect::<Result<Vec<_>, _>>()?;
+            let mut points = Vec::new();
+            if !Node::apply(Operation::Union, children).union_points(&mut points) {
+                return Err(bad(
+                    &here,
+                    "a hull takes leaves and unions of them, not intersections or differences",
+                ));
+            }
+            NodeKind::Mesh {
+                mesh: Box::new(convex_hull(&points)),
+                name: here.clone(),
+            }
         }
         "mesh" => {
             let path = base.join(string(body, &here)?);
@@ -362,11 +384,19 @@ mod tests {
             ),
             (
                 r#"{"cube": {"size": 1}, "sphere": {"r": 1}}"#,
-                "/: a node has exactly one of union, intersection, difference, mesh, cube, sphere, cylinder, boxes, not [\"cube\", \"sphere\"]",
+                "/: a node has exactly one of union, intersection, difference, hull, mesh, cube, sphere, cylinder, boxes, not [\"cube\", \"sphere\"]",
             ),
             (
-                r#"{"hull": []}"#,
-                "/: unknown key \"hull\" (a node is one of union, intersection, difference, mesh, cube, sphere, cylinder, boxes)",
+                r#"{"minkowski": []}"#,
+                "/: unknown key \"minkowski\" (a node is one of union, intersection, difference, hull, mesh, cube, sphere, cylinder, boxes)",
+            ),
+            (
+                r#"{"hull": [{"difference": [{"cube": {"size": 2}}, {"cube": {"size": 1}}]}]}"#,
+                "/hull: a hull takes leaves and unions of them, not intersections or differences",
+            ),
+            (
+                r#"{"union": [{"hull": {"cube": {"size": 1}}}]}"#,
+                "/union/0/hull: a hull takes an array of nodes",
             ),
         ];
         for (text, message) in cases {
@@ -388,5 +418,38 @@ mod tests {
         };
         assert_eq!(children[0].material.as_deref(), Some("stone"));
         assert_eq!(children[1].transform.unwrap()[0][3], 0.2);
+    }
+
+    #[test]
+    fn a_hull_is_the_exact_convex_hull_of_its_placed_leaves() {
+        // Two unit cubes a diagonal apart, one placed by a transform, inside a union: the hull
+        // adds the prism between them, and its own transform and material apply to it.
+        let node = parse(
+            r#"{"hull": [
+                {"cube": {"size": 1}},
+                {"union": [{"cube": {"size": 1},
+                            "transform": [[1, 0, 0, 2], [0, 1, 0, 0], [0, 0, 1, 0]]}]}],
+                "transform": [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]], "material": "glass"}"#,
+        )
+        .unwrap();
+        assert_eq!(node.material.as_deref(), Some("glass"));
+        let out = super::super::evaluate(
+            &node,
+            &crate::exact::BooleanOptions::default(),
+            &crate::Progress::default(),
+        )
+        .unwrap();
+        let report = out.result.mesh.report();
+        assert!(report.is_valid_solid(), "{report:?}");
+        assert_eq!(report.measures.volume, 2.0 * 3.0);
+        assert_eq!(out.result.mesh.materials(), ["glass"]);
+        // A leaf of a hull that cannot be read is named by its JSON path.
+        let missing = parse(r#"{"hull": [{"mesh": "none.obj"}]}"#);
+        assert!(
+            missing
+                .unwrap_err()
+                .to_string()
+                .starts_with("/hull/0/mesh: ")
+        );
     }
 }

@@ -87,6 +87,28 @@ impl Node {
         self.transform.map_or(outer, |own| compose(outer, own))
     }
 
+    /// Collects the points of this subtree's leaves, placed by the transforms within it (its
+    /// own included), where the subtree holds only unions: the points a convex hull of it
+    /// spans (OpenSCAD's `hull()`, a scene's `"hull"`). False where it holds another operation
+    /// or an extrusion, whose points are not its leaves'.
+    pub(super) fn union_points(&self, points: &mut Vec<[f64; 3]>) -> bool {
+        self.union_points_under(IDENTITY, points)
+    }
+
+    fn union_points_under(&self, outer: Affine, points: &mut Vec<[f64; 3]>) -> bool {
+        let transform = self.placement(outer);
+        match &self.kind {
+            NodeKind::Mesh { mesh, .. } => {
+                points.extend(mesh.positions().iter().map(|&p| moved(&transform, p)));
+                true
+            }
+            NodeKind::Apply(Operation::Union, children) => {
+                (children.iter()).all(|child| child.union_points_under(transform, points))
+            }
+            NodeKind::Apply(..) | NodeKind::Extrude { .. } => false,
+        }
+    }
+
     /// An operation node without transform or material.
     pub fn apply(op: Operation, children: Vec<Node>) -> Node {
         Node {
