@@ -48,7 +48,10 @@
 //!    A sliver with neither (a thin shell of slivers attached to the solid along its edges,
 //!    in no other face's plane) takes them from a classified sheet at one of its edges in
 //!    another plane: turning about the edge from that sheet's front to the sliver's crosses
-//!    the sheets between them, in their exact angular order about the edge.
+//!    the sheets between them, in their exact angular order about the edge. A sliver with no
+//!    classified sheet at any edge either (a closed shell of slivers that touches nothing)
+//!    casts the ray itself, from a symbolic point just inside one of its corners, where every
+//!    predicate's sign is that of the first of the corners it does not vanish at.
 //!
 //! # Complexity
 //! The operands' trees ([`TriangleTrees`], the self-intersection check's) and one ray per
@@ -168,6 +171,67 @@ impl<'a> RayCaster<'a> {
                     Some(entry) => entry.1 += sigma,
                     None => sample.front.push((k, sigma)),
                 },
+            }
+        });
+        sample.front.retain(|e| e.1 != 0);
+        sample.front.sort_unstable();
+        sample.coincident.sort_unstable();
+        sample
+    }
+}
+
+impl RayCaster<'_> {
+    /// As [`cast`](Self::cast), from a point just inside sub-triangle `corners` of input
+    /// triangle `source`, however thin: `(1 − δ − δ²)·V0 + δ·V1 + δ²·V2` for an infinitesimal
+    /// δ > 0, strictly inside it and on its plane. For the slivers no f64 sample point fits
+    /// in that no neighbour classifies (a closed shell of slivers that touches nothing).
+    ///
+    /// Why this is exact: each predicate the ray asks is affine in the point, so at that point
+    /// it is `f(V0) + δ·(f(V1) − f(V0)) + δ²·(f(V2) − f(V0))`, whose sign is the first non-zero
+    /// of `f(V0)`, `f(V1)`, `f(V2)`: exact predicates on the corners. The projection's sides
+    /// never all vanish (the corners do not project onto one line), so the point needs no
+    /// further perturbation.
+    fn cast_from_corner(&self, source: u32, corners: &[Point; 3]) -> Sample {
+        let tri = self.input.triangle(source as usize);
+        let axis = tri.drop_axis();
+        let a = axis.index();
+        let turn = tri.turn();
+        let mut query = (corners.iter()).fold(Aabb::EMPTY, |b, corner| {
+            let (min, max) = enclosing_box(corner);
+            b.union(&Aabb { min, max })
+        });
+        if turn == Sign::Positive {
+            query.max[a] = f64::INFINITY;
+        } else {
+            query.min[a] = f64::NEG_INFINITY;
+        }
+        let first_non_zero =
+            |f: &dyn Fn(&Point) -> Sign| (corners.iter()).map(f).find(|&s| s != Sign::Zero);
+        let mut sample = Sample::default();
+        self.trees.visit_overlapping(&query, |t| {
+            let other = self.input.triangle(t as usize);
+            let q = other.positions();
+            let x = q.map(Point::Explicit);
+            let o = orient2d_projected(&x[0], &x[1], &x[2], axis);
+            if o == Sign::Zero {
+                return; // parallel to the ray
+            }
+            let inside = (0..3).all(|i| {
+                let (from, to) = (&x[i], &x[(i + 1) % 3]);
+                first_non_zero(&|v| orient2d_projected(from, to, v, axis)) == Some(o)
+            });
+            if !inside {
+                return;
+            }
+            let sigma = if o == turn { 1 } else { -1 };
+            let k = self.input.operand[t as usize];
+            match first_non_zero(&|v| orient3d_plane(q[0], q[1], q[2], v)) {
+                None => sample.coincident.push((t, sigma)),
+                Some(h) if h.times(o) == turn => match sample.front.iter_mut().find(|e| e.0 == k) {
+                    Some(entry) => entry.1 += sigma,
+                    None => sample.front.push((k, sigma)),
+                },
+                Some(_) => {}
             }
         });
         sample.front.retain(|e| e.1 != 0);
@@ -301,9 +365,6 @@ fn sample_point_near(
 /// patch; each ray cast is reported to `progress`.
 ///
 /// # Errors
-/// [`StageError::Unsupported`] when a patch has no sub-triangle wide enough to hold an f64
-/// sample point strictly inside and no classified neighbour in its face, its coincident
-/// stack or at its edges (a closed shell of slivers that touches nothing);
 /// [`StageError::Cancelled`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn select(
@@ -355,12 +416,15 @@ pub(crate) fn select(
         );
     });
     counter.finish()?;
-    // In the crate's tests, the turn that classifies slivers is checked against the rays
-    // wherever both apply: every pair of sheets at an edge whose patches rays classified.
+    // In the crate's tests, the ways slivers are classified are checked against the rays
+    // wherever both apply: the turn about every edge between two sheets whose patches rays
+    // classified, and the ray from just inside a corner of every sub-triangle of them.
     #[cfg(test)]
     tests::assert_turns_agree_with_rays(input, arr, patch_of, &found);
+    #[cfg(test)]
+    tests::assert_corner_casts_agree_with_rays(&caster, input, arr, patch_of, &found);
     if missing > 0 {
-        propagate_to_slivers(input, arr, trees, patch_of, &mut found)?;
+        propagate_to_slivers(input, arr, trees, patch_of, &mut found);
     }
     let operand_count = input.operand_count();
     let decisions: Vec<Option<bool>> = (0..patch_count)
@@ -409,15 +473,16 @@ struct PatchAt {
 /// too, with another operand's coplanar faces on every edge, which make each a patch
 /// boundary), each takes them from a classified patch of its coincident stack instead
 /// ([`front_from_stack`]); with none there either, from a classified sheet at one of its
-/// edges, in any plane ([`front_around_edge`]). The sliver's coincident faces are found
-/// exactly ([`sliver_stack`]).
+/// edges, in any plane ([`front_around_edge`]); and with none of those, by a ray from just
+/// inside one of its corners ([`RayCaster::cast_from_corner`]), after which the cheaper
+/// rules go on from it. The sliver's coincident faces are found exactly ([`sliver_stack`]).
 fn propagate_to_slivers(
     input: &Input,
     arr: &Arrangement,
     trees: &TriangleTrees,
     patch_of: &[u32],
     found: &mut [Option<Sample>],
-) -> Result<(), StageError> {
+) {
     let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
     let pending: Vec<u32> = (0..arr.triangles.len() as u32)
         .filter(|&s| found[patch_of[s as usize] as usize].is_none())
@@ -501,7 +566,7 @@ fn propagate_to_slivers(
             }
         }
         if found.iter().all(Option::is_some) {
-            return Ok(());
+            return;
         }
         if progress {
             continue;
@@ -540,11 +605,22 @@ fn propagate_to_slivers(
             progress = true;
         }
         if !progress {
-            let p = found.iter().position(Option::is_none).unwrap_or(0);
-            return Err(StageError::Unsupported(format!(
-                "surface patch {p} has no sub-triangle wide enough to sample and no classified \
-                 neighbour in its face, its coincident stack or at its edges"
-            )));
+            // Last, a ray from a point just inside the first sliver left, however thin.
+            let (slot, &s) = (pending.iter().enumerate())
+                .find(|&(_, &s)| found[patch_of[s as usize] as usize].is_none())
+                .expect("a patch is left");
+            let corners = arr.triangles[s as usize].map(|v| point(v).into_owned());
+            let caster = RayCaster::new(input, trees);
+            let front = caster
+                .cast_from_corner(arr.source[s as usize], &corners)
+                .front;
+            let (coincident, stack) = (stacks[slot].take())
+                .unwrap_or_else(|| sliver_stack(input, arr, trees, s, &mut boxes));
+            found[patch_of[s as usize] as usize] = Some(Sample {
+                front,
+                coincident,
+                stack,
+            });
         }
     }
 }
@@ -974,7 +1050,26 @@ mod tests {
         }
     }
 
-    /// Booleans that take the winding path, so that the check above runs on their edges:
+    /// For every sub-triangle whose patch a ray classified, the ray from just inside its first
+    /// corner ([`RayCaster::cast_from_corner`]) finds the same winding numbers in front.
+    pub(super) fn assert_corner_casts_agree_with_rays(
+        caster: &RayCaster,
+        input: &Input,
+        arr: &Arrangement,
+        patch_of: &[u32],
+        found: &[Option<Sample>],
+    ) {
+        for (s, corners) in arr.triangles.iter().enumerate() {
+            let Some(by_ray) = &found[patch_of[s] as usize] else {
+                continue;
+            };
+            let corners = corners.map(|v| arr.point(input, v).into_owned());
+            let cast = caster.cast_from_corner(arr.source[s], &corners);
+            assert_eq!(cast.front, by_ray.front, "sub-triangle {s}");
+        }
+    }
+
+    /// Booleans that take the winding path, so that the checks above run on their edges:
     /// operands whose faces cross, nested shells, sheets meeting at non-manifold edges, and
     /// coplanar faces across operands. Each result is a valid solid of the expected volume.
     #[test]
@@ -1019,5 +1114,39 @@ mod tests {
         // Half of each cube, and the parts of the sphere (volume below 4π/3 · 0.4³ < 0.27)
         // in the two quadrants about the edge that no cube fills.
         assert!(cut > 1.0 && cut < 1.0 + 0.27 / 2.0, "{cut}");
+    }
+
+    /// A closed shell of four slivers one ulp thin, which no f64 sample point fits in and
+    /// nothing touches, as a second shell of a cube's operand: nested in the cube (which sends
+    /// the operand down the winding path), `cube − far cube` failed as "unsupported
+    /// configuration: surface patch 1 has no sub-triangle wide enough to sample…". A ray from
+    /// just inside a corner of a sliver classifies it.
+    #[test]
+    fn a_shell_of_slivers_that_touches_nothing_is_classified() {
+        let next = |x: f64| f64::from_bits(x.to_bits() + 1);
+        let sliver_at = |x: f64| {
+            let corners = vec![
+                [x, 0.5, 0.5],
+                [x + 1.0, 0.5, 0.5],
+                [x, next(0.5), 0.5],
+                [x, 0.5, next(0.5)],
+            ];
+            Mesh::from_triangles(corners, &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]).unwrap()
+        };
+        let far = cuboid([5.0; 3], [6.0; 3]);
+        let options = BooleanOptions::default();
+        // Nested: inside the cube, where the winding number is 2, the sliver bounds nothing.
+        let nested = concatenate(&[cuboid([0.0; 3], [2.0; 3]), sliver_at(0.5)]).unwrap();
+        let out = boolean(Operation::Difference, &[&nested, &far], &options).unwrap();
+        assert!(out.stats.winding_classification);
+        assert_eq!(out.mesh.report().measures.volume, 8.0);
+        assert_eq!(out.mesh.face_count(), 12);
+        // Beside the cube, touching nothing: the sliver is part of the solid, and stays.
+        let beside = concatenate(&[cuboid([0.0; 3], [2.0; 3]), sliver_at(3.5)]).unwrap();
+        let out = boolean(Operation::Union, &[&beside, &far], &options).unwrap();
+        let report = out.mesh.report();
+        assert!(report.is_valid_solid(), "{report:?}");
+        assert_eq!(report.measures.volume, 9.0);
+        assert_eq!(out.mesh.face_count(), 12 + 4 + 12);
     }
 }
