@@ -8,7 +8,7 @@ use crate::discrete::{DiscreteStats, DiscretizeOptions, Grid, combine, labelled_
 use crate::error::Error;
 use crate::exact::{BooleanOptions, BooleanStats, Expression, boolean_expression};
 use crate::mesh::Mesh;
-use crate::ortho::{MeshOptions, bounded_box, box_union_mesh};
+use crate::ortho::{MeshOptions, bounded_box, box_union_mesh, plain_box};
 use crate::progress::{Progress, Stage, StageClock};
 
 mod sealed {
@@ -168,9 +168,7 @@ impl Engine for ExactEngine {
 
 /// The operands of `operation` that the orthogonal engine can unite first, in order, with
 /// their boxes: for a union every operand, for a difference those after the first, that is
-/// a plain box (its
-/// eight corners, bounding an axis-aligned box, with no attribute that its faces would lose
-/// when they merge into maximal faces); none unless there are at least
+/// a plain box ([`plain_box`]); none unless there are at least
 /// [`MIN_UNITED_BOXES`].
 fn plain_boxes(operation: Operation, operands: &[&Mesh]) -> Vec<(usize, [f64; 6])> {
     let first = match operation {
@@ -178,18 +176,8 @@ fn plain_boxes(operation: Operation, operands: &[&Mesh]) -> Vec<(usize, [f64; 6]
         Operation::Difference => 1,
         Operation::Intersection | Operation::Xor => return Vec::new(),
     };
-    let plain = |mesh: &Mesh| {
-        let bare = mesh.vertex_count() == 8
-            && mesh.face_materials().is_none()
-            && mesh.face_groups().is_none()
-            && mesh.face_colors().is_none()
-            && mesh.corner_uvs().is_none()
-            && mesh.corner_normals().is_none()
-            && mesh.vertex_colors().is_none();
-        bare.then(|| bounded_box(mesh)).flatten()
-    };
     let boxes: Vec<(usize, [f64; 6])> = (first..operands.len())
-        .filter_map(|k| plain(operands[k]).map(|corners| (k, corners)))
+        .filter_map(|k| plain_box(operands[k]).map(|corners| (k, corners)))
         .collect();
     if boxes.len() >= MIN_UNITED_BOXES {
         boxes

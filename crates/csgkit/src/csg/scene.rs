@@ -163,21 +163,10 @@ fn node(value: &Value, at: &str, base: &Path) -> Result<Node, SceneError> {
                 "intersection" => Operation::Intersection,
                 _ => Operation::Difference,
             };
-            let Some(children) = body.as_array() else {
-                return Err(bad(&here, "an operation takes an array of nodes"));
-            };
-            let children = (children.iter().enumerate())
-                .map(|(i, child)| node(child, &format!("{here}/{i}"), base))
-                .collect::<Result<Vec<_>, _>>()?;
-            NodeKind::Apply(op, children)
+            NodeKind::Apply(op, child_nodes(body, &here, base, "an operation")?)
         }
         "hull" => {
-            let Some(children) = body.as_array() else {
-                return Err(bad(&here, "a hull takes an array of nodes"));
-            };
-            let children = (children.iter().enumerate())
-                .map(|(i, child)| node(child, &format!("{here}/{i}"), base))
-                .collect::<Result<Vec<_>, _>>()?;
+            let children = child_nodes(body, &here, base, "a hull")?;
             let mut points = Vec::new();
             if !Node::apply(Operation::Union, children).union_points(&mut points) {
                 return Err(bad(
@@ -228,6 +217,16 @@ fn node(value: &Value, at: &str, base: &Path) -> Result<Node, SceneError> {
         transform,
         material,
     })
+}
+
+/// The nodes of the array `body` at `here`, the children of `what` (an operation or a hull).
+fn child_nodes(body: &Value, here: &str, base: &Path, what: &str) -> Result<Vec<Node>, SceneError> {
+    let Some(children) = body.as_array() else {
+        return Err(bad(here, format!("{what} takes an array of nodes")));
+    };
+    (children.iter().enumerate())
+        .map(|(i, child)| node(child, &format!("{here}/{i}"), base))
+        .collect()
 }
 
 fn string<'a>(value: &'a Value, at: &str) -> Result<&'a str, SceneError> {

@@ -27,7 +27,7 @@ use crate::exact::{
 };
 use crate::kernel::Precision;
 use crate::mesh::{Affine, FaceMode, IDENTITY, Mesh, compose, moved, transformed};
-use crate::ortho::{MeshOptions, OrthoError, bounded_box, box_union};
+use crate::ortho::{MeshOptions, OrthoError, bounded_box, box_union, plain_box};
 use crate::progress::Progress;
 
 use super::extrude::{ExtrudeError, Extrusion, Profile};
@@ -417,8 +417,8 @@ impl<'a, 'p> Flattened<'a, 'p> {
 
 /// Collects the boxes of a subtree made only of unions of cuboid leaves that bound
 /// axis-aligned boxes once placed ([`bounded_box`]), with no material below its root and no
-/// attribute on a leaf's faces, corners or vertices (an imported part's materials or UVs,
-/// which the orthogonal engine's boxes do not carry); false for any other subtree.
+/// attribute on a leaf ([`plain_box`]: an imported part's materials or UVs, which the
+/// orthogonal engine's boxes do not carry); false for any other subtree.
 fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
     let transform = node.placement(outer);
     match &node.kind {
@@ -427,9 +427,7 @@ fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
         // Only a bare cuboid (its eight corners, nothing else): the orthogonal engine keeps
         // no other vertex, and a 2D shape's prism needs its ring in z = 0. A box moved by
         // anything but a scaled signed permutation is no longer one.
-        NodeKind::Mesh { mesh, .. }
-            if mesh.vertex_count() == 8 && is_bare(mesh) && bounded_box(mesh).is_some() =>
-        {
+        NodeKind::Mesh { mesh, .. } if plain_box(mesh).is_some() => {
             match placed(mesh, transform, None).as_ref().and_then(bounded_box) {
                 Some(b) => {
                     boxes.push(b);
@@ -440,18 +438,6 @@ fn boxes_of(node: &Node, outer: Affine, boxes: &mut Vec<[f64; 6]>) -> bool {
         }
         _ => false,
     }
-}
-
-/// Whether `mesh` carries nothing but its shape: no face material, group or colour, no
-/// corner UV or normal, no vertex colour.
-fn is_bare(mesh: &Mesh) -> bool {
-    let parts = mesh.parts();
-    parts.face_materials.is_none()
-        && parts.face_groups.is_none()
-        && parts.face_colors.is_none()
-        && parts.corner_uvs.is_none()
-        && parts.corner_normals.is_none()
-        && parts.vertex_colors.is_none()
 }
 
 /// Whether `node`, an operation placed by `transform`, is one that [`evaluate`] evaluates

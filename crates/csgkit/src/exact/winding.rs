@@ -424,7 +424,7 @@ pub(crate) fn select(
     #[cfg(test)]
     tests::assert_corner_casts_agree_with_rays(&caster, input, arr, patch_of, &found);
     if missing > 0 {
-        propagate_to_slivers(input, arr, trees, patch_of, &mut found);
+        propagate_to_slivers(input, arr, &caster, trees, patch_of, &mut found);
     }
     let operand_count = input.operand_count();
     let decisions: Vec<Option<bool>> = (0..patch_count)
@@ -479,6 +479,7 @@ struct PatchAt {
 fn propagate_to_slivers(
     input: &Input,
     arr: &Arrangement,
+    caster: &RayCaster,
     trees: &TriangleTrees,
     patch_of: &[u32],
     found: &mut [Option<Sample>],
@@ -610,7 +611,6 @@ fn propagate_to_slivers(
                 .find(|&(_, &s)| found[patch_of[s as usize] as usize].is_none())
                 .expect("a patch is left");
             let corners = arr.triangles[s as usize].map(|v| point(v).into_owned());
-            let caster = RayCaster::new(input, trees);
             let front = caster
                 .cast_from_corner(arr.source[s as usize], &corners)
                 .front;

@@ -195,6 +195,23 @@ pub fn box_union_vertices(
         .collect())
 }
 
+/// The box `[x0, y0, z0, x1, y1, z1]` of `mesh` where the orthogonal engine can take it as a
+/// box and lose nothing: its eight corners bound that box ([`bounded_box`]) and it carries no
+/// face, corner or vertex attribute (material, group, colour, UV, normal), which the box's
+/// faces, merged into maximal faces, would not keep. The test of the engine facade's operands
+/// and of CSG trees' box leaves.
+pub fn plain_box(mesh: &Mesh) -> Option<[f64; 6]> {
+    let parts = mesh.parts();
+    let bare = mesh.vertex_count() == 8
+        && parts.face_materials.is_none()
+        && parts.face_groups.is_none()
+        && parts.face_colors.is_none()
+        && parts.corner_uvs.is_none()
+        && parts.corner_normals.is_none()
+        && parts.vertex_colors.is_none();
+    bare.then(|| bounded_box(mesh)).flatten()
+}
+
 /// The box `[x0, y0, z0, x1, y1, z1]` that `mesh` bounds, if it bounds one: every face lies
 /// in a plane of its bounding box and the surface is closed with positive volume, so it covers
 /// the box a whole number of times (the orthogonal engine's operands, and the box leaves of CSG
