@@ -85,7 +85,10 @@
 //!    collapsed and degenerate faces dropped); its new intersection points are snapped to
 //!    the same grid (Lazard & Valque), its result must be closed, and the loop goes back to 1
 //!    with those points as the moved vertices. A re-refinement that fails moves to the next
-//!    grid.
+//!    grid, and so does one that leaves far more crossing pairs than it started from
+//!    ([`RUNAWAY_FACTOR`]): the mesh goes back to what it was before it (without a coarser
+//!    grid, re-refining folds can cut them into ever finer folds, each round slower than the
+//!    last).
 //!
 //! Where rounding folds nothing (nearly always), the stage is step 1 alone, and the thin-shell
 //! test: a union-find over the vertices and a sum over the faces, a few per cent of the
@@ -159,6 +162,16 @@ pub(crate) const REROUND_MAX_STEPS: u32 = 4;
 /// search on.
 const MAX_ITERATIONS: usize = 64;
 const MAX_REFINEMENTS: usize = 8;
+
+/// A re-refinement that leaves more than `RUNAWAY_FACTOR` times the crossing pairs it started
+/// from, plus `RUNAWAY_SLACK`, is rolled back, and the next round snaps to a coarser grid.
+/// New intersection points may fold a few faces on the way to a certified mesh (8 crossing
+/// pairs became 12 in a result that went on to certify), but folds cut into more
+/// folds run away: on a solid split in two and joined back through files, 234 crossing
+/// pairs became 403 after four re-refinements, then 7,735 on a coarser grid, whose
+/// re-refinement alone took 47 s.
+const RUNAWAY_FACTOR: usize = 2;
+const RUNAWAY_SLACK: usize = 16;
 
 /// Rounds of snapping and re-refinement on one grid before a coarser one is tried.
 pub(crate) const ROUNDS_PER_LEVEL: usize = 3;
@@ -354,6 +367,9 @@ fn certify_rounds(
     // near-merge was tried early in this attempt (see below).
     let mut dissolved_from: Option<usize> = None;
     let mut merged_early = false;
+    // The problems of `mesh` when the last round already found them (a re-refinement is
+    // checked before it is kept).
+    let mut known: Option<Problems> = None;
     for round in 0..MAX_ITERATIONS {
         if round > 0 {
             counter.advance(1);
@@ -361,7 +377,7 @@ fn certify_rounds(
         if counter.is_cancelled() {
             return Err(Cancelled.into());
         }
-        let problems = find_problems(&mesh, &moved);
+        let problems = (known.take()).unwrap_or_else(|| find_problems(&mesh, &moved));
         if problems.is_empty() {
             let shells_before = certificate.removed_shells;
             let mesh = without_thin_shells(mesh, &moved, precision, &mut certificate);
@@ -484,6 +500,7 @@ fn certify_rounds(
         }
         let mut soup = mesh.clone();
         let mut snapped = Vec::new();
+        let mut snap_displacement = 0.0;
         if !problems.to_snap.is_empty() {
             if rounds_at_level == ROUNDS_PER_LEVEL {
                 level += SNAP_LEVEL_STEP;
@@ -498,8 +515,7 @@ fn certify_rounds(
                 // a face between a snapped and an unsnapped vertex tilts, and crosses its
                 // nearly coplanar neighbours.
                 snapped = neighbourhood_vertices(&soup, &problems.to_snap);
-                let displacement = snap(&mut soup, &snapped, level, precision);
-                certificate.record_snap(snapped.len(), displacement);
+                snap_displacement = snap(&mut soup, &snapped, level, precision);
             }
         }
         certificate.rounds += 1;
@@ -511,30 +527,47 @@ fn certify_rounds(
             .chain(&snapped)
             .map(|&v| soup.positions()[v as usize])
             .collect();
-        let next = match closed_refinement(&mut re_refine, &soup, &suspects) {
+        let (mut refined, refined_moved) = match closed_refinement(&mut re_refine, &soup, &suspects)
+        {
             Some(next) => next,
             None if counter.is_cancelled() => return Err(Cancelled.into()),
             // Slivers too thin to sample in f64, an operand the engine refuses, or a result
             // with a hole: a coarser grid merges their vertices.
             None if !problems.to_snap.is_empty() => {
                 rounds_at_level = ROUNDS_PER_LEVEL;
+                known = Some(problems);
                 continue;
             }
             None => return Err(CertifyError::not_certified(&problems)),
         };
-        (mesh, moved) = next;
+        // The new intersection points go on the same grid (Lazard & Valque): on a coarse
+        // grid, near-degenerate pieces collapse instead of shrinking further.
+        let mut new_snapped = (0, 0.0);
         if level > 0 {
-            // The new intersection points go on the same grid (Lazard & Valque): on a
-            // coarse grid, near-degenerate pieces collapse instead of shrinking further.
-            let new_points: Vec<u32> = (moved.iter().enumerate())
+            let new_points: Vec<u32> = (refined_moved.iter().enumerate())
                 .filter(|&(_, &m)| m)
                 .map(|(v, _)| v as u32)
                 .collect();
-            let displacement = snap(&mut mesh, &new_points, level, precision);
-            certificate.record_snap(new_points.len(), displacement);
+            new_snapped = (
+                new_points.len(),
+                snap(&mut refined, &new_points, level, precision),
+            );
         }
+        let after = find_problems(&refined, &refined_moved);
+        if after.pairs.len() > RUNAWAY_FACTOR * problems.pairs.len() + RUNAWAY_SLACK {
+            // A step back: re-refining the folds on this grid cut them finer, into more
+            // folds. The mesh stays as it was, and the next round snaps it to a coarser
+            // grid.
+            rounds_at_level = ROUNDS_PER_LEVEL;
+            known = Some(problems);
+            continue;
+        }
+        certificate.record_snap(snapped.len(), snap_displacement);
+        certificate.record_snap(new_snapped.0, new_snapped.1);
+        (mesh, moved) = (refined, refined_moved);
+        known = Some(after);
     }
-    let problems = find_problems(&mesh, &moved);
+    let problems = (known.take()).unwrap_or_else(|| find_problems(&mesh, &moved));
     if problems.is_empty() {
         let mesh = without_thin_shells(mesh, &moved, precision, &mut certificate);
         return Ok((without_unused_vertices(mesh), certificate));
