@@ -6,7 +6,7 @@ use csgkit::exact::{BooleanOptions, boolean};
 use csgkit::primitives::cuboid;
 use csgkit::{Mesh, Operation, Precision, read_mesh};
 
-use crate::util::{assert_no_self_intersection, repo_data};
+use crate::util::{assert_no_self_intersection, assert_valid_operand, repo_data};
 
 /// A mesh of the repository's `tests/data/regression/`.
 fn load_regression(name: &str) -> Mesh {
@@ -261,9 +261,7 @@ fn stress_run_a_thin_shell_on_edges_is_an_operand() {
         let result = boolean(op, &[&solid, other], &options)
             .unwrap_or_else(|e| panic!("{op:?} failed: {e}"))
             .mesh;
-        let report = result.report();
-        assert!(report.is_valid_solid(), "{op:?}: {report:?}");
-        assert_no_self_intersection(&result, &format!("{op:?}"));
+        assert_valid_operand(&result, &format!("{op:?}"));
         volume(&result)
     };
     // Far from the solid: the difference is the solid, the union both.
@@ -298,9 +296,7 @@ fn stress_run_a_solid_split_in_two_joins_back() {
     let union = boolean(Operation::Union, &[&cut, &core], &BooleanOptions::default())
         .unwrap_or_else(|e| panic!("the union of the two pieces failed: {e}"))
         .mesh;
-    let report = union.report();
-    assert!(report.is_valid_solid(), "{report:?}");
-    assert_no_self_intersection(&union, "the union");
+    assert_valid_operand(&union, "the union");
     // The pieces overlap only in slivers along the seam.
     let volume = |m: &Mesh| m.report().measures.volume;
     let expected = volume(&cut) + volume(&core);

@@ -146,6 +146,14 @@ pub fn assert_no_self_intersection(mesh: &csgkit::Mesh, what: &str) {
     );
 }
 
+/// Asserts `mesh` is a valid solid (closed, consistently oriented, of positive volume) in
+/// which the exact self-intersection check finds nothing: a valid operand of the next boolean.
+pub fn assert_valid_operand(mesh: &csgkit::Mesh, what: &str) {
+    let report = mesh.report();
+    assert!(report.is_valid_solid(), "{what}: {report:?}");
+    assert_no_self_intersection(mesh, what);
+}
+
 /// Asserts `|x − y| ≤ tolerance · scale`: a volume compared with another to a relative
 /// tolerance of the operands' volumes (`scale`).
 pub fn assert_close(x: f64, y: f64, tolerance: f64, scale: f64, what: &str) {
