@@ -11,7 +11,7 @@
 //! - closed and consistently oriented.
 //!
 //! Every vertex ends near where the exact result has it: rounding moves it by at most 2.5
-//! ulps per coordinate, re-rounding (and pushing a corner through a thin layer) by at most
+//! ulps of its largest coordinate per coordinate, re-rounding (and pushing a corner through a thin layer) by at most
 //! [`REROUND_MAX_STEPS`] ulps, and snapping (at most half a grid step per level, the steps
 //! doubling up to `2^MAX_SNAP_LEVEL` ulps of the largest coordinate magnitude `M`) by at most
 //! `2^MAX_SNAP_LEVEL` ulps of `M` in all: every coordinate stays within `2^-27 · M` of the
