@@ -17,7 +17,7 @@ use csgkit::{Format, Mesh, Operation, Precision};
 
 use crate::util::{
     assert_no_self_intersection, assert_valid_operand, bbox, diagonal, load, rotation, shared_data,
-    transformed, translated,
+    through_a_file, transformed, translated,
 };
 
 use Operation::{Difference, Intersection, Union};
@@ -186,16 +186,6 @@ fn armadillo_union_cylinder() {
         v.intersection > 0.0 && v.intersection < v.b,
         "the cylinder goes through the model and out of it: {v:?}"
     );
-}
-
-/// `mesh` written to a file of `format` (STL: binary, f32) and read back, as the next
-/// command of a chain reads it.
-fn through_a_file(mesh: &Mesh, format: Format) -> Mesh {
-    let bytes = csgkit::write_mesh_to_bytes(mesh, format, csgkit::Encoding::Binary)
-        .expect("a result writes");
-    (csgkit::read_mesh_from_bytes(&bytes, Some(format)))
-        .expect("a written file reads back")
-        .mesh
 }
 
 /// Chains through files that bring an operand back: `(A ∪ B) − B`, `(A − B) ∪ B`,

@@ -146,6 +146,16 @@ pub fn assert_no_self_intersection(mesh: &csgkit::Mesh, what: &str) {
     );
 }
 
+/// `mesh` written to a file of `format` (STL: binary, f32) and read back, as the next
+/// command of a chain reads it.
+pub fn through_a_file(mesh: &csgkit::Mesh, format: csgkit::Format) -> csgkit::Mesh {
+    let bytes = csgkit::write_mesh_to_bytes(mesh, format, csgkit::Encoding::Binary)
+        .expect("a result writes");
+    (csgkit::read_mesh_from_bytes(&bytes, Some(format)))
+        .expect("a written file reads back")
+        .mesh
+}
+
 /// Asserts `mesh` is a valid solid (closed, consistently oriented, of positive volume) in
 /// which the exact self-intersection check finds nothing: a valid operand of the next boolean.
 pub fn assert_valid_operand(mesh: &csgkit::Mesh, what: &str) {

@@ -276,6 +276,14 @@ impl EdgeTable {
         })
     }
 
+    /// The faces that use edge `e`, each with whether its side runs from the smaller vertex
+    /// to the larger.
+    pub fn face_uses(&self, e: usize) -> impl Iterator<Item = (u32, bool)> + '_ {
+        let uses = &self.half_edges[self.starts[e] as usize..self.starts[e + 1] as usize];
+        uses.iter()
+            .map(|h| (self.face_of(h.origin), h.is_forward()))
+    }
+
     /// The uses of edge `e` as (corner at the smaller vertex, corner at the larger) pairs.
     fn corner_pairs(&self, e: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
         let uses = &self.half_edges[self.starts[e] as usize..self.starts[e + 1] as usize];

@@ -64,6 +64,10 @@
 //!    round of dissolving left as many problems as before (it takes every sliver around a
 //!    problem vertex, often not the problem's): on a CAD model's fans through binary STL,
 //!    38 such rounds of a whole check each came before the near-merge that cleared them.
+//!    Then, where none of those helps, closed **pockets** with a problem, thinner on
+//!    average than a few ulps, hanging on their shell by edges of four uses or more
+//!    (`thin_pockets`): the thin tetrahedra that the union of a solid's two pieces keeps
+//!    between two triangulations of their cut. They go whole, as thin shells do.
 //! 5. **Push through thin layers** ([`layers`]): two crossing faces that face opposite ways,
 //!    with corners of one within a few ulps behind the other's plane, bound a layer of
 //!    material thinner than the grid (a chain such as `(A ∪ B) − B` through a file, where a
@@ -108,7 +112,10 @@ use crate::index::{Aabb, Bvh, Occupancy};
 use crate::kernel::{Point3, Precision};
 use crate::mesh::union_find::UnionFind;
 use crate::mesh::vector::{cross, dot, norm, sub};
-use crate::mesh::{Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_positions};
+use crate::mesh::{
+    EdgeTable, Mesh, MeshParts, apply_welding, opposite_triangle_pairs, weld_positions,
+};
+use smallvec::SmallVec;
 
 use crate::progress::{Cancelled, Counter, Progress, Stage};
 
@@ -231,7 +238,8 @@ pub(crate) struct Certificate {
     pub dissolved_slivers: usize,
     /// Pairs of opposite faces over the same vertices (slivers that rounded flat) removed.
     pub removed_sheets: usize,
-    /// Closed shells thinner than the f64 grid removed whole.
+    /// Closed shells, and pockets hanging on a shell by its edges, thinner than the f64 grid,
+    /// removed whole.
     pub removed_shells: usize,
 }
 
@@ -417,11 +425,8 @@ fn certify_rounds(
             continue;
         }
         // A shell thinner than the f64 grid folds whatever its rounding: it goes whole.
-        let (shells, faces) = thin_shells(
-            &mesh,
-            &problems.to_snap,
-            grid_step(mesh.positions(), THIN_SHELL_LEVEL, precision),
-        );
+        let thin = grid_step(mesh.positions(), THIN_SHELL_LEVEL, precision);
+        let (shells, faces) = thin_shells(&mesh, &problems.to_snap, thin);
         if shells > 0 {
             certificate.removed_shells += shells;
             mesh = remove_faces(mesh, &faces);
@@ -474,6 +479,15 @@ fn certify_rounds(
                 (mesh, moved) = merged;
                 continue;
             }
+        }
+        // So does a thin pocket hanging on its shell by edges of four uses: two
+        // triangulations of one cut, put back against each other (see [`thin_pockets`]).
+        // Its pieces need every edge's uses, so it comes after the local repairs.
+        let (pockets, faces) = thin_pockets(&mesh, &problems.to_snap, thin);
+        if pockets > 0 {
+            certificate.removed_shells += pockets;
+            mesh = remove_faces(mesh, &faces);
+            continue;
         }
         if !pushing_refused {
             // A layer thinner than the grid between opposite faces, turned inside out and
@@ -1094,16 +1108,103 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
             roots.push(root);
         }
     }
-    let shell_of = |f: usize| slot_of_root[root_of[corners[3 * f] as usize] as usize];
-    // Per such shell: six times its volume and twice its area, each face's terms from the
-    // shell's root; summed per chunk of faces in parallel, then over the chunks in order, so
-    // the sums do not depend on the thread count.
+    let origins: Vec<Point3> = roots.iter().map(|&r| positions[r as usize]).collect();
+    let slot_of = |f: usize| slot_of_root[root_of[corners[3 * f] as usize] as usize];
+    thin_pieces(
+        mesh,
+        slot_of,
+        &origins,
+        &vec![true; origins.len()],
+        tolerance,
+    )
+}
+
+/// The closed pockets thinner on average than `tolerance` (as in [`thin_shells`]) among the
+/// faces around `vertices` (sorted): faces joined across edges used once each way, where
+/// such a piece is closed by itself (at every edge, its own uses balanced). How many, and
+/// their faces.
+///
+/// A pocket hangs on the rest of its shell by edges of four uses or more, so it is no shell
+/// of its own. Joining the two pieces of a solid split in two, `(A ∪ B) − B` and `A ∩ B`, puts
+/// their cut faces back against each other: the two pieces triangulate the cut between the
+/// same vertices differently, and wherever two triangulations of a quad that is not quite
+/// planar differ, the exact union keeps the thin tetrahedron between them, a pocket of
+/// material or of empty space. Those with an intersection point of the union fold when it
+/// is rounded, and nothing but removing them whole clears them (re-refining a pocket
+/// computes it again). Removing a closed pocket keeps every edge balanced.
+fn thin_pockets(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32>) {
+    let corners = mesh.corners();
+    let edges = EdgeTable::new(mesh);
+    let mut pieces = UnionFind::new(mesh.face_count());
+    for e in 0..edges.edge_count() {
+        if let [(f, true), (g, false)] | [(f, false), (g, true)] =
+            edges.face_uses(e).collect::<SmallVec<[_; 4]>>()[..]
+        {
+            pieces.union(f, g);
+        }
+    }
+    let piece_of = pieces.roots();
+    // Per piece with a face around one of `vertices`, by its root face: its slot.
+    let mut around = vec![false; mesh.vertex_count()];
+    for &v in vertices {
+        around[v as usize] = true;
+    }
+    let mut slot_of_piece = vec![u32::MAX; mesh.face_count()];
+    let mut origins = Vec::new();
+    for (f, c) in corners.chunks_exact(3).enumerate() {
+        let piece = piece_of[f] as usize;
+        if c.iter().any(|&v| around[v as usize]) && slot_of_piece[piece] == u32::MAX {
+            slot_of_piece[piece] = origins.len() as u32;
+            origins.push(mesh.positions()[corners[3 * piece] as usize]);
+        }
+    }
+    let slot_of = |f: usize| slot_of_piece[piece_of[f] as usize];
+    // A piece is closed where every edge's uses among its faces balance.
+    let mut closed = vec![true; origins.len()];
+    let mut balance: SmallVec<[(u32, i32); 4]> = SmallVec::new();
+    for e in 0..edges.edge_count() {
+        balance.clear();
+        for (f, forward) in edges.face_uses(e) {
+            let slot = slot_of(f as usize);
+            if slot == u32::MAX {
+                continue;
+            }
+            let step = if forward { 1 } else { -1 };
+            match balance.iter_mut().find(|(s, _)| *s == slot) {
+                Some((_, sum)) => *sum += step,
+                None => balance.push((slot, step)),
+            }
+        }
+        for &(slot, sum) in &balance {
+            if sum != 0 {
+                closed[slot as usize] = false;
+            }
+        }
+    }
+    thin_pieces(mesh, slot_of, &origins, &closed, tolerance)
+}
+
+/// Of the pieces of `mesh` (`slot_of(face)`: a face's piece, or `u32::MAX` for none), those
+/// `closed` and thinner on average than `tolerance`: twice their volume, over their area,
+/// below it, each summed from the piece's `origins` point. How many, and their faces.
+fn thin_pieces(
+    mesh: &Mesh,
+    slot_of: impl Fn(usize) -> u32 + Sync,
+    origins: &[Point3],
+    closed: &[bool],
+    tolerance: f64,
+) -> (usize, Vec<u32>) {
+    let corners = mesh.corners();
+    let positions = mesh.positions();
+    // Per piece: six times its volume and twice its area, each face's terms from the
+    // piece's origin; summed per chunk of faces in parallel, then over the chunks in order,
+    // so the sums do not depend on the thread count.
     let chunk_sums = |faces: std::ops::Range<usize>| {
-        let mut sums = vec![(0.0f64, 0.0f64); roots.len()];
+        let mut sums = vec![(0.0f64, 0.0f64); origins.len()];
         for f in faces {
-            let slot = shell_of(f);
+            let slot = slot_of(f);
             if slot != u32::MAX {
-                let origin = positions[roots[slot as usize] as usize];
+                let origin = origins[slot as usize];
                 let [a, b, c] =
                     [0, 1, 2].map(|k| sub(positions[corners[3 * f + k] as usize], origin));
                 let (six_volume, twice_area) = &mut sums[slot as usize];
@@ -1115,11 +1216,11 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
     };
     let face_count = corners.len() / 3;
     let chunks: Vec<std::ops::Range<usize>> = block_ranges(face_count, THIN_SHELL_CHUNK).collect();
-    let measures = if roots.len() * chunks.len() > THIN_SHELL_CHUNK {
+    let measures = if origins.len() * chunks.len() > THIN_SHELL_CHUNK {
         chunk_sums(0..face_count)
     } else {
         let partial: Vec<Vec<(f64, f64)>> = chunks.into_par_iter().map(chunk_sums).collect();
-        let mut total = vec![(0.0f64, 0.0f64); roots.len()];
+        let mut total = vec![(0.0f64, 0.0f64); origins.len()];
         for sums in partial {
             for (t, s) in total.iter_mut().zip(sums) {
                 *t = (t.0 + s.0, t.1 + s.1);
@@ -1128,21 +1229,23 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
         total
     };
     // Mean thickness 2 V / A = (2 / 3) · six_volume / twice_area.
-    let thin: Vec<bool> = (measures.iter())
-        .map(|&(six_volume, twice_area)| (2.0 * six_volume).abs() < 3.0 * twice_area * tolerance)
+    let thin: Vec<bool> = (measures.iter().zip(closed))
+        .map(|(&(six_volume, twice_area), &closed)| {
+            closed && (2.0 * six_volume).abs() < 3.0 * twice_area * tolerance
+        })
         .collect();
-    let shells = thin.iter().filter(|&&t| t).count();
-    if shells == 0 {
+    let pieces = thin.iter().filter(|&&t| t).count();
+    if pieces == 0 {
         return (0, Vec::new());
     }
-    let faces = (0..corners.len() / 3)
+    let faces = (0..face_count)
         .filter(|&f| {
-            let slot = shell_of(f);
+            let slot = slot_of(f);
             slot != u32::MAX && thin[slot as usize]
         })
         .map(|f| f as u32)
         .collect();
-    (shells, faces)
+    (pieces, faces)
 }
 
 /// Faces per chunk of [`thin_shells`]' parallel sums (and the most per-chunk sums it keeps).
@@ -1369,6 +1472,52 @@ mod tests {
         // Without a problem in it, a thin shell stays.
         assert_eq!(thin_shells(&mesh, &[8], tolerance), (0, vec![]));
         assert_eq!(faces, 24);
+    }
+
+    #[test]
+    fn only_closed_thin_pockets_hanging_on_an_edge_go() {
+        // The unit cube, and a tetrahedron on its edge from (0, 0, 0) to (1, 0, 0): that edge
+        // has four uses, so the tetrahedron is a piece of its own, closed by itself, whose
+        // fourth corner lies `height` above the plane of the other three.
+        let tolerance = grid_step(&[[1.0; 3]], THIN_SHELL_LEVEL, Precision::F64);
+        let with_pocket = |height: f64, faces: usize| {
+            let cube = cube(0.0, 1.0);
+            let at = |p: Point3| (cube.positions().iter()).position(|&q| q == p).unwrap() as u32;
+            let (a, b) = (at([0.0; 3]), at([1.0, 0.0, 0.0]));
+            let (c, d) = (8, 9);
+            let mut positions = cube.positions().to_vec();
+            positions.extend([[0.5, -0.5, 0.0], [0.5, -0.25, height]]);
+            let mut corners = cube.corners().to_vec();
+            let pocket = [[a, c, b], [a, b, d], [b, c, d], [a, d, c]];
+            corners.extend(pocket[..faces].iter().flatten());
+            Mesh::from_parts(MeshParts {
+                positions,
+                corners,
+                ..MeshParts::default()
+            })
+            .unwrap()
+        };
+        let pocket_faces: Vec<u32> = (12..16).collect();
+        // A problem at its corner: the thin pocket goes, its four faces and nothing else.
+        let thin = with_pocket(tolerance, 4);
+        assert_eq!(thin_pockets(&thin, &[8], tolerance), (1, pocket_faces));
+        // A problem only on the cube, whose piece is thick: nothing goes.
+        let far_corner = (thin.positions().iter())
+            .position(|&p| p == [1.0; 3])
+            .unwrap();
+        assert_eq!(
+            thin_pockets(&thin, &[far_corner as u32], tolerance),
+            (0, vec![])
+        );
+        // A thick pocket stays, and so does a thin one that is not closed by itself.
+        assert_eq!(
+            thin_pockets(&with_pocket(100.0 * tolerance, 4), &[8], tolerance),
+            (0, vec![])
+        );
+        assert_eq!(
+            thin_pockets(&with_pocket(tolerance, 3), &[8], tolerance),
+            (0, vec![])
+        );
     }
 
     #[test]
