@@ -21,10 +21,10 @@
 //! crossing on an axis plane) stay exact. Where no point that near is behind every plane
 //! (three surfaces meeting at a sharp angle), the nearest point is taken.
 //!
-//!
 //! # Onto a corner nearby
 //! A point within [`INWARD_STEPS`] ulps (of its largest coordinate) of a corner of a triangle
-//! it lies on goes onto that corner, where the corner is on or behind every plane too. A
+//! it lies on goes onto that corner, where the corner is on or behind every plane too and
+//! keeps the coordinates the point has exactly. A
 //! chain of booleans meets its own rounded points again. Split a solid in two, `(A ∪ B) − B`
 //! and `A ∩ B`, and join the pieces back: the intersection's curve points are the union's
 //! (the same exact points, rounded the same way), but the difference computes where the
@@ -38,10 +38,9 @@
 //! planes it is computed from, as large as in the others.
 //!
 //! Rounding moves intersection points by up to `INWARD_STEPS + 1/2` ulps of their largest
-//! coordinate per coordinate,
-//! which in near-degenerate configurations makes two output faces cross or a face collapse;
-//! the [`certify`] stage finds and repairs those, starting from the vertices this stage marks
-//! as moved.
+//! coordinate per coordinate, which in near-degenerate configurations makes two output faces
+//! cross or a face collapse; the [`certify`] stage finds and repairs those, starting from the
+//! vertices this stage marks as moved.
 //!
 //! [`certify`]: super::certify
 
@@ -250,6 +249,9 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
     let nearest: Point3 =
         std::array::from_fn(|k| grid.nearest(nearest_f64[k], Sign::of(offset_f64[k])));
     let offset: [f64; 3] = std::array::from_fn(|k| (nearest_f64[k] - nearest[k]) + offset_f64[k]);
+    if let Some(corner) = nearby_corner(planes, nearest, offset, grid, behind) {
+        return corner;
+    }
     let normals: SmallVec<[Point3; 6]> = (planes.iter())
         .map(|&[a, b, c]| cross(sub(b, a), sub(c, a)))
         .collect();
@@ -274,9 +276,6 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
         let screened = normals.iter().all(|&n| dot(n, from_point) <= 0.0);
         Some((q, screened))
     };
-    if let Some(corner) = nearby_corner(planes, nearest, offset, grid, behind) {
-        return corner;
-    }
     let all = std::iter::once([0; 3]).chain(INWARD_ORDER.iter().copied());
     let screened = (all.clone().filter_map(candidate)).filter(|&(_, screened)| screened);
     let others = (all.filter_map(candidate)).filter(|&(_, screened)| !screened);
@@ -288,8 +287,9 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
 
 /// The corner of `planes` nearest the exact point (`nearest`, the grid's nearest point, plus
 /// `offset`) among those within [`INWARD_STEPS`] steps of the grid at its largest coordinate
-/// from `nearest` in every coordinate, that the grid holds and that are `behind` every plane
-/// (see the module docs, "Onto a corner nearby").
+/// from `nearest` in every coordinate, that the grid holds, that keep every coordinate the
+/// point has exactly and make none newly subnormal, and that are `behind` every plane (see
+/// the module docs, "Onto a corner nearby").
 fn nearby_corner(
     planes: &[[Point3; 3]],
     nearest: Point3,
@@ -298,7 +298,8 @@ fn nearby_corner(
     behind: impl Fn(Point3) -> bool,
 ) -> Option<Point3> {
     let largest = nearest.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let reach = grid.step_by(largest, INWARD_STEPS) - largest;
+    // One step up from the largest coordinate is its ulp, at the top of a binade too.
+    let reach = f64::from(INWARD_STEPS) * (grid.step_by(largest, 1) - largest);
     if !reach.is_finite() {
         return None;
     }
@@ -307,8 +308,17 @@ fn nearby_corner(
             .map(|k| ((c[k] - nearest[k]) - offset[k]).powi(2))
             .sum()
     };
+    // A coordinate the point has exactly stays, and none becomes newly subnormal, as in
+    // `round_inward`'s own candidates.
+    let keeps = |c: &Point3| {
+        (0..3).all(|k| {
+            (c[k] - nearest[k]).abs() <= reach
+                && (offset[k] != 0.0 || c[k] == nearest[k])
+                && (!grid.is_subnormal(c[k]) || grid.is_subnormal(nearest[k]))
+        })
+    };
     (planes.iter().flatten())
-        .filter(|c| (0..3).all(|k| (c[k] - nearest[k]).abs() <= reach))
+        .filter(|c| keeps(c))
         .filter(|&&c| grid.holds_point(&c) && behind(c))
         .min_by(|a, b| from_point(a).total_cmp(&from_point(b)))
         .copied()
@@ -410,13 +420,21 @@ mod tests {
 
     #[test]
     fn a_point_an_ulp_from_a_corner_of_its_triangle_goes_onto_it() {
-        // A vertical line through the plane an ulp (in x) beside its corner (1, 0.1, 0.3): the
+        // A slanted line through the plane an ulp (in x) beside its corner (1, 0.1, 0.3): the
         // crossing rounds onto the corner, not to its nearest f64 point; 256 ulps away, to a
         // point of its own. With a second plane through the line, the corner is taken only
         // where it is behind that plane too (one of its two orientations).
         let plane = [[0.0, 0.0, 0.1], [1.0, 0.1, 0.3], [0.2, 1.0, 0.7]];
         let corner = plane[1];
-        let line = |dx: f64| ([1.0 + dx, 0.1, -1.0], [1.0 + dx, 0.1, 2.0]);
+        // The plane's z over (x, y) rises by 1/7 per unit of x.
+        let line = |dx: f64| {
+            let on_plane = [1.0 + dx, 0.1, 0.3 + dx / 7.0];
+            let along = [0.3, 0.2, 1.0];
+            (
+                [0, 1, 2].map(|k| on_plane[k] - along[k]),
+                [0, 1, 2].map(|k| on_plane[k] + along[k]),
+            )
+        };
         let f64_grid = grid(Precision::F64);
         let (p, q) = line(f64::EPSILON);
         let near = crossing(p, q, plane);
@@ -424,7 +442,10 @@ mod tests {
         assert_eq!(round_inward(&near, &[plane], &f64_grid), corner);
         let (p_far, q_far) = line(256.0 * f64::EPSILON);
         let far = round_inward(&crossing(p_far, q_far, plane), &[plane], &f64_grid);
-        assert_eq!(far[0], p_far[0]);
+        assert!(
+            far[0] > 1.0 + 200.0 * f64::EPSILON,
+            "{far:?} is not its own point"
+        );
         let r = [2.0, 0.5, 0.0];
         let onto_corner = [[p, q, r], [q, p, r]]
             .map(|through_line| round_inward(&near, &[plane, through_line], &f64_grid) == corner);
@@ -454,5 +475,12 @@ mod tests {
             moved >= 1,
             "the nearest point is in front of one of the two"
         );
+        // A corner of a plane through the line, beside the point and an ulp below the axis
+        // plane (so behind it): not taken, since the point's z is exact.
+        let beside = [nearest[0], nearest[1], 0.5 - f64::EPSILON / 4.0];
+        for tilted in [[p, q, beside], [q, p, beside]] {
+            let rounded = round_inward(&point, &[axis_plane, tilted], &grid(Precision::F64));
+            assert_eq!(rounded[2], 0.5);
+        }
     }
 }

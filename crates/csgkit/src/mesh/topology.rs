@@ -276,8 +276,9 @@ impl EdgeTable {
         })
     }
 
-    /// The faces that use edge `e`, each with whether its side runs from the smaller vertex
-    /// to the larger.
+    /// The faces that use edge `e` (face ids of the mesh, polygons on a polygon mesh; faces
+    /// with fewer than three distinct vertices use no edge), each with whether its side runs
+    /// from the smaller vertex to the larger.
     pub fn face_uses(&self, e: usize) -> impl Iterator<Item = (u32, bool)> + '_ {
         let uses = &self.half_edges[self.starts[e] as usize..self.starts[e + 1] as usize];
         uses.iter()

@@ -11,11 +11,11 @@
 //! - closed and consistently oriented.
 //!
 //! Every vertex ends near where the exact result has it: rounding moves it by at most 2.5
-//! ulps of its largest coordinate per coordinate, re-rounding (and pushing a corner through a thin layer) by at most
-//! [`REROUND_MAX_STEPS`] ulps, and snapping (at most half a grid step per level, the steps
-//! doubling up to `2^MAX_SNAP_LEVEL` ulps of the largest coordinate magnitude `M`) by at most
-//! `2^MAX_SNAP_LEVEL` ulps of `M` in all: every coordinate stays within `2^-27 · M` of the
-//! exact result. Removing a sliver moves the
+//! ulps of its largest coordinate per coordinate, re-rounding (and pushing a corner through
+//! a thin layer) by at most [`REROUND_MAX_STEPS`] ulps, and snapping (at most half a grid
+//! step per level, the steps doubling up to `2^MAX_SNAP_LEVEL` ulps of the largest coordinate
+//! magnitude `M`) by at most `2^MAX_SNAP_LEVEL` ulps of `M` in all: every coordinate stays
+//! within `2^-27 · M` of the exact result. Removing a sliver moves the
 //! surface by less than the tolerance it was found with, at most `2^MAX_SNAP_LEVEL` ulps of
 //! `M`; a removed thin shell bounds less than its area times `2^THIN_SHELL_LEVEL` ulps of `M`,
 //! and a thin layer turned inside out is thinner than the push that turned it.
@@ -65,9 +65,10 @@
 //!    problem vertex, often not the problem's): on a CAD model's fans through binary STL,
 //!    38 such rounds of a whole check each came before the near-merge that cleared them.
 //!    Then, where none of those helps, closed **pockets** with a problem, thinner on
-//!    average than a few ulps, hanging on their shell by edges of four uses or more
-//!    (`thin_pockets`): the thin tetrahedra that the union of a solid's two pieces keeps
-//!    between two triangulations of their cut. They go whole, as thin shells do.
+//!    average than a few ulps (`thin_pockets`: faces joined across edges used once each
+//!    way, closed by themselves, such as a pocket hanging on its shell by edges of four
+//!    uses): the thin tetrahedra that the union of a solid's two pieces keeps between two
+//!    triangulations of their cut. They go whole, as thin shells do.
 //! 5. **Push through thin layers** ([`layers`]): two crossing faces that face opposite ways,
 //!    with corners of one within a few ulps behind the other's plane, bound a layer of
 //!    material thinner than the grid (a chain such as `(A ∪ B) − B` through a file, where a
@@ -103,7 +104,8 @@
 //! query per face, then the exact test on the neighbourhood. Step 3 tries at most a few
 //! hundred positions per problem vertex against its neighbourhood. Step 4 builds a tree over
 //! all faces once per call and tests each change against the faces around it. Steps 5–7 run
-//! only when re-rounding and sliver removal cannot help, and cost one exact boolean of the result with itself per round.
+//! only when re-rounding and sliver removal cannot help, and cost one exact boolean of the
+//! result with itself per round.
 
 use crate::par::*;
 use rustc_hash::FxHashMap;
@@ -482,7 +484,7 @@ fn certify_rounds(
         }
         // So does a thin pocket hanging on its shell by edges of four uses: two
         // triangulations of one cut, put back against each other (see [`thin_pockets`]).
-        // Its pieces need every edge's uses, so it comes after the local repairs.
+        // It builds a table of every edge of the mesh, so it comes after the cheap repairs.
         let (pockets, faces) = thin_pockets(&mesh, &problems.to_snap, thin);
         if pockets > 0 {
             certificate.removed_shells += pockets;
@@ -1119,20 +1121,22 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
     )
 }
 
-/// The closed pockets thinner on average than `tolerance` (as in [`thin_shells`]) among the
-/// faces around `vertices` (sorted): faces joined across edges used once each way, where
+/// The closed pieces thinner on average than `tolerance` (as in [`thin_shells`]) among those
+/// with a face around one of `vertices`: faces joined across edges used once each way, where
 /// such a piece is closed by itself (at every edge, its own uses balanced). How many, and
 /// their faces.
 ///
-/// A pocket hangs on the rest of its shell by edges of four uses or more, so it is no shell
-/// of its own. Joining the two pieces of a solid split in two, `(A ∪ B) − B` and `A ∩ B`, puts
-/// their cut faces back against each other: the two pieces triangulate the cut between the
-/// same vertices differently, and wherever two triangulations of a quad that is not quite
-/// planar differ, the exact union keeps the thin tetrahedron between them, a pocket of
-/// material or of empty space. Those with an intersection point of the union fold when it
-/// is rounded, and nothing but removing them whole clears them (re-refining a pocket
-/// computes it again). Removing a closed pocket keeps every edge balanced.
+/// Such a piece is a whole shell or, what [`thin_shells`] does not find, a pocket that hangs
+/// on the rest of its shell by edges of four uses or more (or at vertices). Joining the two
+/// pieces of a solid split in two, `(A ∪ B) − B` and `A ∩ B`, puts their cut faces back
+/// against each other: the two pieces triangulate the cut between the same vertices
+/// differently, and wherever two triangulations of a quad that is not quite planar differ,
+/// the exact union keeps the thin tetrahedron between them, a pocket of material or of empty
+/// space. Those with an intersection point of the union fold when it is rounded, and nothing
+/// but removing them whole clears them (re-refining a pocket computes it again). Removing a
+/// closed pocket keeps every edge balanced.
 fn thin_pockets(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32>) {
+    debug_assert!(mesh.is_triangle_mesh(), "face ids index corners in threes");
     let corners = mesh.corners();
     let edges = EdgeTable::new(mesh);
     let mut pieces = UnionFind::new(mesh.face_count());
@@ -1248,7 +1252,7 @@ fn thin_pieces(
     (pieces, faces)
 }
 
-/// Faces per chunk of [`thin_shells`]' parallel sums (and the most per-chunk sums it keeps).
+/// Faces per chunk of [`thin_pieces`]' parallel sums (and the most per-chunk sums it keeps).
 const THIN_SHELL_CHUNK: usize = 1 << 16;
 
 /// How close, in ulps of the largest coordinate magnitude (as `log2`), a problem vertex must
