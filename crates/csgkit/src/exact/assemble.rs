@@ -249,7 +249,15 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
     let nearest: Point3 =
         std::array::from_fn(|k| grid.nearest(nearest_f64[k], Sign::of(offset_f64[k])));
     let offset: [f64; 3] = std::array::from_fn(|k| (nearest_f64[k] - nearest[k]) + offset_f64[k]);
-    if let Some(corner) = nearby_corner(planes, nearest, offset, grid, behind) {
+    // Whether a coordinate of the rounding may be `x`: a coordinate the point has exactly (a
+    // crossing on an axis plane) stays, and none becomes non-finite or newly subnormal.
+    let may_take = |k: usize, x: f64| {
+        x == nearest[k]
+            || (offset[k] != 0.0
+                && x.is_finite()
+                && (!grid.is_subnormal(x) || grid.is_subnormal(nearest[k])))
+    };
+    if let Some(corner) = nearby_corner(planes, nearest, offset, grid, may_take, behind) {
         return corner;
     }
     let normals: SmallVec<[Point3; 6]> = (planes.iter())
@@ -263,12 +271,9 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
             if steps[k] == 0 {
                 continue;
             }
-            if offset[k] == 0.0 {
-                return None;
-            }
             // Towards the exact value is up where it lies above the nearest.
             q[k] = grid.step_by(q[k], if offset[k] > 0.0 { steps[k] } else { -steps[k] });
-            if !q[k].is_finite() || (grid.is_subnormal(q[k]) && !grid.is_subnormal(nearest[k])) {
+            if !may_take(k, q[k]) {
                 return None;
             }
         }
@@ -287,14 +292,15 @@ fn round_inward(point: &Point, planes: &[[Point3; 3]], grid: &Grid) -> Point3 {
 
 /// The corner of `planes` nearest the exact point (`nearest`, the grid's nearest point, plus
 /// `offset`) among those within [`INWARD_STEPS`] steps of the grid at its largest coordinate
-/// from `nearest` in every coordinate, that the grid holds, that keep every coordinate the
-/// point has exactly and make none newly subnormal, and that are `behind` every plane (see
-/// the module docs, "Onto a corner nearby").
+/// from `nearest` in every coordinate, that the grid holds, whose every coordinate `k` the
+/// rounding `may_take`, and that are `behind` every plane (see the module docs, "Onto a
+/// corner nearby").
 fn nearby_corner(
     planes: &[[Point3; 3]],
     nearest: Point3,
     offset: [f64; 3],
     grid: &Grid,
+    may_take: impl Fn(usize, f64) -> bool,
     behind: impl Fn(Point3) -> bool,
 ) -> Option<Point3> {
     let largest = nearest.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -308,17 +314,8 @@ fn nearby_corner(
             .map(|k| ((c[k] - nearest[k]) - offset[k]).powi(2))
             .sum()
     };
-    // A coordinate the point has exactly stays, and none becomes newly subnormal, as in
-    // `round_inward`'s own candidates.
-    let keeps = |c: &Point3| {
-        (0..3).all(|k| {
-            (c[k] - nearest[k]).abs() <= reach
-                && (offset[k] != 0.0 || c[k] == nearest[k])
-                && (!grid.is_subnormal(c[k]) || grid.is_subnormal(nearest[k]))
-        })
-    };
     (planes.iter().flatten())
-        .filter(|c| keeps(c))
+        .filter(|c| (0..3).all(|k| (c[k] - nearest[k]).abs() <= reach && may_take(k, c[k])))
         .filter(|&&c| grid.holds_point(&c) && behind(c))
         .min_by(|a, b| from_point(a).total_cmp(&from_point(b)))
         .copied()

@@ -276,19 +276,21 @@ impl EdgeTable {
         })
     }
 
+    /// The half-edges of edge `e`.
+    fn uses(&self, e: usize) -> &[HalfEdge] {
+        &self.half_edges[self.starts[e] as usize..self.starts[e + 1] as usize]
+    }
+
     /// The faces that use edge `e` (face ids of the mesh, polygons on a polygon mesh; faces
     /// with fewer than three distinct vertices use no edge), each with whether its side runs
     /// from the smaller vertex to the larger.
     pub fn face_uses(&self, e: usize) -> impl Iterator<Item = (u32, bool)> + '_ {
-        let uses = &self.half_edges[self.starts[e] as usize..self.starts[e + 1] as usize];
-        uses.iter()
-            .map(|h| (self.face_of(h.origin), h.is_forward()))
+        (self.uses(e).iter()).map(|h| (self.face_of(h.origin), h.is_forward()))
     }
 
     /// The uses of edge `e` as (corner at the smaller vertex, corner at the larger) pairs.
     fn corner_pairs(&self, e: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
-        let uses = &self.half_edges[self.starts[e] as usize..self.starts[e + 1] as usize];
-        uses.iter().map(move |h| {
+        self.uses(e).iter().map(move |h| {
             if h.is_forward() {
                 (h.origin, h.target)
             } else {

@@ -1112,13 +1112,8 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
     }
     let origins: Vec<Point3> = roots.iter().map(|&r| positions[r as usize]).collect();
     let slot_of = |f: usize| slot_of_root[root_of[corners[3 * f] as usize] as usize];
-    thin_pieces(
-        mesh,
-        slot_of,
-        &origins,
-        &vec![true; origins.len()],
-        tolerance,
-    )
+    // A shell of faces joined by vertices is closed where the mesh is.
+    thin_pieces(mesh, slot_of, &origins, |_| true, tolerance)
 }
 
 /// The closed pieces thinner on average than `tolerance` (as in [`thin_shells`]) among those
@@ -1138,6 +1133,7 @@ fn thin_shells(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32
 fn thin_pockets(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u32>) {
     debug_assert!(mesh.is_triangle_mesh(), "face ids index corners in threes");
     let corners = mesh.corners();
+    let positions = mesh.positions();
     let edges = EdgeTable::new(mesh);
     let mut pieces = UnionFind::new(mesh.face_count());
     for e in 0..edges.edge_count() {
@@ -1159,7 +1155,7 @@ fn thin_pockets(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u3
         let piece = piece_of[f] as usize;
         if c.iter().any(|&v| around[v as usize]) && slot_of_piece[piece] == u32::MAX {
             slot_of_piece[piece] = origins.len() as u32;
-            origins.push(mesh.positions()[corners[3 * piece] as usize]);
+            origins.push(positions[corners[3 * piece] as usize]);
         }
     }
     let slot_of = |f: usize| slot_of_piece[piece_of[f] as usize];
@@ -1185,17 +1181,17 @@ fn thin_pockets(mesh: &Mesh, vertices: &[u32], tolerance: f64) -> (usize, Vec<u3
             }
         }
     }
-    thin_pieces(mesh, slot_of, &origins, &closed, tolerance)
+    thin_pieces(mesh, slot_of, &origins, |slot| closed[slot], tolerance)
 }
 
 /// Of the pieces of `mesh` (`slot_of(face)`: a face's piece, or `u32::MAX` for none), those
-/// `closed` and thinner on average than `tolerance`: twice their volume, over their area,
+/// `is_closed` and thinner on average than `tolerance`: twice their volume, over their area,
 /// below it, each summed from the piece's `origins` point. How many, and their faces.
 fn thin_pieces(
     mesh: &Mesh,
     slot_of: impl Fn(usize) -> u32 + Sync,
     origins: &[Point3],
-    closed: &[bool],
+    is_closed: impl Fn(usize) -> bool,
     tolerance: f64,
 ) -> (usize, Vec<u32>) {
     let corners = mesh.corners();
@@ -1233,9 +1229,9 @@ fn thin_pieces(
         total
     };
     // Mean thickness 2 V / A = (2 / 3) · six_volume / twice_area.
-    let thin: Vec<bool> = (measures.iter().zip(closed))
-        .map(|(&(six_volume, twice_area), &closed)| {
-            closed && (2.0 * six_volume).abs() < 3.0 * twice_area * tolerance
+    let thin: Vec<bool> = (measures.iter().enumerate())
+        .map(|(slot, &(six_volume, twice_area))| {
+            is_closed(slot) && (2.0 * six_volume).abs() < 3.0 * twice_area * tolerance
         })
         .collect();
     let pieces = thin.iter().filter(|&&t| t).count();
